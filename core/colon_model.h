@@ -1,0 +1,105 @@
+// The colon model (paper sections 2.1-2.4): built once from an anatomy and parameters,
+// never changed during a run. What changes lives in ColonState (colon_state.h); the
+// step (colon_step.h) takes both.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/banded.h"
+#include "core/spline.h"
+#include "core/tension_law.h"
+
+namespace colosim {
+
+/// One anatomical region of a centreline, as read from an anatomy file.
+struct AnatomyRegion {
+  std::string name;            ///< e.g. "sigmoid"
+  std::string mesentery;       ///< mesentery class name, a key of ColonParams::mesentery
+  double radius_start_m = 0;   ///< lumen radius where the region starts [m]
+  double radius_end_m = 0;     ///< lumen radius where it ends [m]
+  std::vector<Vec3> points_m;  ///< centreline waypoints [m], continuing the previous region
+};
+
+/// A colon centreline from the anus to the caecal pole, in the patient frame:
+/// x towards the patient's left, y anterior, z cranial; origin at the anus [m].
+struct Anatomy {
+  std::string name;
+  std::vector<AnatomyRegion> regions;
+};
+
+/// Mesentery lifter densities of one class (paper eqs. 4-5).
+struct MesenteryClass {
+  double stiffness_N_per_m2 = 0;  ///< k: stiffness per unit length [N/m per m]
+  double damping_Ns_per_m2 = 0;   ///< c: viscosity per unit length [N s/m per m]
+};
+
+/// Physical parameters of the colon.
+struct ColonParams {
+  double mass_per_length_kg_per_m = 0.4;  ///< rho (paper eq. 8) [kg/m]
+  double tension_EA_N = 28.9;             ///< axial rigidity of the Voigt law [N]
+  double tension_EC_Ns = 0.05;            ///< axial viscosity of the Voigt law [N s]
+  std::map<std::string, MesenteryClass> mesentery;  ///< by class name
+  double gravity_m_per_s2 = 9.81;         ///< magnitude of g [m/s^2]
+  std::string patient_position = "left_lateral";  ///< left_lateral | supine | prone | right_lateral
+  double control_point_spacing_m = 0.015; ///< target spacing of the resampled spline [m]
+  int control_point_count = 0;            ///< when > 0, overrides the spacing: exactly this many points
+};
+
+/// Gravity vector in the patient frame for a named position [m/s^2]; throws
+/// std::invalid_argument for an unknown name.
+Vec3 gravityForPosition(const std::string& patient_position, double g_m_per_s2);
+
+/// A scalar symmetric band matrix over control points (half-bandwidth 3), such as the
+/// mass matrix M_il of eq. 3; the 3-D matrix is this one times the 3 x 3 identity.
+using ScalarBand = BandedSpd;
+
+struct ColonModel {
+  int n = 0;                        ///< number of control points
+  Points q_rest;                    ///< rest positions q0 (3 x n) [m]
+  Eigen::VectorXd s_rest_m;         ///< rest arclength at each control point (n) [m]
+  Eigen::VectorXd radius_m;         ///< lumen radius at each control point (n) [m]
+  Eigen::VectorXd segment_length_m; ///< rest arclength of each spline segment (n-1) [m]
+  Eigen::VectorXd rest_length_m;    ///< rest chord length of each tension element (n-1) [m]
+  std::vector<int> segment_region;  ///< region index of each spline segment (n-1)
+  std::vector<std::string> region_names;     ///< by region index
+  std::vector<std::string> region_mesentery; ///< mesentery class by region index
+  Eigen::VectorXd segment_k_N_per_m2; ///< mesentery stiffness density per segment (n-1)
+  Eigen::VectorXd segment_c_Ns_per_m2;///< mesentery viscosity density per segment (n-1)
+
+  ScalarBand mass;            ///< M (eq. 3), n x n [kg]
+  ScalarBand mesentery_K;     ///< K (eq. 4), n x n [N/m]
+  ScalarBand mesentery_C;     ///< C (eq. 5), n x n [N s/m]
+  Eigen::VectorXd mass_rowsum_kg; ///< M 1 (n): the gravity load is this times g [kg]
+  Vec3 gravity_m_per_s2 = Vec3::Zero();
+  double mass_per_length_kg_per_m = 0;
+  std::shared_ptr<const TensionLaw> tension_law;
+
+  double length_m() const { return s_rest_m(n - 1); }
+  /// Lumen radius at (segment, p), linear between control points [m].
+  double radiusAt(int segment, double p) const {
+    return (1 - p) * radius_m(segment) + p * radius_m(segment + 1);
+  }
+  /// Rest arclength at (segment, p), linear in p within the segment [m].
+  double arclengthAt(int segment, double p) const {
+    return s_rest_m(segment) + p * segment_length_m(segment);
+  }
+};
+
+/// Builds a model: resamples the anatomy centreline to control points at the spacing
+/// of the parameters (uniform in arclength), integrates M, K, C by Gauss quadrature.
+/// Throws std::invalid_argument naming the problem when the inputs are inconsistent
+/// (unknown mesentery class, fewer than two waypoints, non-positive radius, ...).
+ColonModel buildColonModel(const Anatomy& anatomy, const ColonParams& params,
+                           std::shared_ptr<const TensionLaw> law = nullptr);
+
+/// Builds a model directly from control points (no resampling): used by tests and by
+/// tools that make small colons inline. k and c are uniform densities.
+ColonModel buildColonModelFromPoints(const Points& q_rest, const Eigen::VectorXd& radius_m,
+                                     double mass_per_length_kg_per_m, double k_N_per_m2,
+                                     double c_N_s_per_m2, const Vec3& gravity_m_per_s2,
+                                     std::shared_ptr<const TensionLaw> law);
+
+}  // namespace colosim

@@ -1,0 +1,198 @@
+#include "core/colon_step.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace colosim {
+
+namespace {
+
+// Adds the 3 x 3 block B at block position (I, J) of the symmetric system, and its
+// transpose at (J, I): only the lower triangle is stored, so a diagonal block adds its
+// lower part and an off-diagonal block is stored once, below the diagonal.
+inline void addBlock(BandedSpd& a, int I, int J, const Mat3& B) {
+  if (I == J) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c <= r; ++c) a.lower(3 * I + r, 3 * I + c) += B(r, c);
+  } else if (I > J) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a.lower(3 * I + r, 3 * J + c) += B(r, c);
+  } else {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) a.lower(3 * J + c, 3 * I + r) += B(r, c);
+  }
+}
+
+// y.col(i) += s * sum_l A(i, l) x.col(l) for a scalar band matrix A over control points.
+void addScalarBandTimes(const ScalarBand& A, const double* x, double s, double* y) {
+  const int n = A.size(), b = A.halfBandwidth();
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k <= std::min(b, i); ++k) {
+      const int l = i - k;
+      const double a = s * A.lower(i, l);
+      for (int d = 0; d < 3; ++d) y[3 * i + d] += a * x[3 * l + d];
+      if (k > 0)
+        for (int d = 0; d < 3; ++d) y[3 * l + d] += a * x[3 * i + d];
+    }
+  }
+}
+
+double scalarBandQuadratic(const ScalarBand& A, const double* x) {
+  double e = 0;
+  const int n = A.size(), b = A.halfBandwidth();
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k <= std::min(b, i); ++k) {
+      const int l = i - k;
+      double dot = 0;
+      for (int d = 0; d < 3; ++d) dot += x[3 * i + d] * x[3 * l + d];
+      e += (k == 0 ? 1.0 : 2.0) * A.lower(i, l) * dot;
+    }
+  return e;
+}
+
+// (Re)builds M + dt C + dt^2 K of the mesentery, expanded to 3-D, for this dt.
+void buildConstantSystem(const ColonModel& m, ColonState& s, double dt) {
+  BandedSpd& a = s.constant_system;
+  a.setZero();
+  for (int i = 0; i < m.n; ++i)
+    for (int l = std::max(0, i - 3); l <= i; ++l) {
+      const double v = m.mass.lower(i, l) + dt * m.mesentery_C.lower(i, l) +
+                       dt * dt * m.mesentery_K.lower(i, l);
+      for (int d = 0; d < 3; ++d) a.lower(3 * i + d, 3 * l + d) = v;
+    }
+  s.constant_system_dt_s = dt;
+}
+
+}  // namespace
+
+void elementStrain(const ColonModel& m, const ColonState& s, int e, double* strain,
+                   double* strain_rate) {
+  const Vec3 d = s.q.col(e + 1) - s.q.col(e);
+  const double l = d.norm();
+  const double l0 = m.rest_length_m(e);
+  *strain = (l - l0) / l0;
+  *strain_rate = (l > 0) ? d.dot(s.v.col(e + 1) - s.v.col(e)) / (l * l0) : 0.0;
+}
+
+void stepColon(const ColonModel& m, ColonState& s, double dt) {
+  const int n = m.n;
+  const int zs = m.tension_law->internalSize();
+  double* f = s.force.data();
+  double* rhs = s.rhs.data();
+  const double* q = s.q.data();
+  const double* v = s.v.data();
+
+  // Constant part of the system (mass and mesentery), rebuilt only when dt changes.
+  if (s.constant_system_dt_s != dt) buildConstantSystem(m, s, dt);
+  s.system.copyFrom(s.constant_system);
+
+  // Forces: gravity, f = (M 1) g.
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) f[3 * i + d] = m.mass_rowsum_kg(i) * m.gravity_m_per_s2(d);
+
+  // Mesentery lifters (eqs. 4-5): f -= K (q - q0) + C v; rhs term -dt^2 K v.
+  double* dq = s.scratch.data();
+  for (int k = 0; k < 3 * n; ++k) dq[k] = q[k] - m.q_rest.data()[k];
+  addScalarBandTimes(m.mesentery_K, dq, -1.0, f);
+  addScalarBandTimes(m.mesentery_C, v, -1.0, f);
+  for (int k = 0; k < 3 * n; ++k) rhs[k] = 0.0;
+  addScalarBandTimes(m.mesentery_K, v, -dt * dt, rhs);
+
+  // Tension elements (eq. 6) between consecutive control points.
+  for (int e = 0; e + 1 < n; ++e) {
+    const Vec3 d = s.q.col(e + 1) - s.q.col(e);
+    const double l = d.norm();
+    const double l0 = m.rest_length_m(e);
+    const Vec3 u = d / l;
+    const Vec3 dv = s.v.col(e + 1) - s.v.col(e);
+    const double strain = (l - l0) / l0;
+    const double strain_rate = u.dot(dv) / l0;
+    const TensionResponse r =
+        m.tension_law->evaluate(strain, strain_rate, dt, zs ? &s.tension_internal[e * zs] : nullptr);
+    s.tension_force_N(e) = r.force_N;
+    const Vec3 fe = r.force_N * u;  // pulls e+1 towards e and e towards e+1 in tension
+    for (int c = 0; c < 3; ++c) {
+      f[3 * e + c] += fe(c);
+      f[3 * (e + 1) + c] -= fe(c);
+    }
+    // Tangent stiffness: material part along u, geometric part across u (kept only in
+    // tension, so that the matrix stays positive definite); damping along u.
+    const Mat3 uu = u * u.transpose();
+    Mat3 K = (r.dforce_dstrain_N / l0) * uu;
+    if (r.force_N > 0) K += (r.force_N / l) * (Mat3::Identity() - uu);
+    const Mat3 C = (r.dforce_dstrainrate_Ns / l0) * uu;
+    const Vec3 Kdv = K * dv;  // K (v_{e+1} - v_e): the rhs term -dt^2 K v
+    for (int c = 0; c < 3; ++c) {
+      rhs[3 * e + c] += dt * dt * Kdv(c);
+      rhs[3 * (e + 1) + c] -= dt * dt * Kdv(c);
+    }
+    const Mat3 H = dt * C + dt * dt * K;
+    addBlock(s.system, e, e, H);
+    addBlock(s.system, e + 1, e + 1, H);
+    addBlock(s.system, e + 1, e, -H);
+  }
+
+  // External loads at spline points, distributed by the blending functions.
+  for (const SplineLoad& load : s.loads) {
+    const Blend b = blend(n, load.segment, load.p, 0);
+    const Vec3 v_point = apply(b, s.v);
+    const Vec3 Kv = load.stiffness_N_per_m * v_point;
+    const Mat3 H = dt * load.damping_Ns_per_m + dt * dt * load.stiffness_N_per_m;
+    for (int a = 0; a < 4; ++a) {
+      const int i = b.index[a];
+      for (int c = 0; c < 3; ++c) {
+        f[3 * i + c] += b.w[a] * load.force_N(c);
+        rhs[3 * i + c] -= dt * dt * b.w[a] * Kv(c);
+      }
+      for (int c2 = 0; c2 < 4; ++c2) {
+        const int l = b.index[c2];
+        if (i >= l) addBlock(s.system, i, l, (b.w[a] * b.w[c2]) * H);
+      }
+    }
+  }
+
+  // Solve (M + dt C + dt^2 K) dv = dt f - dt^2 K v.
+  for (int k = 0; k < 3 * n; ++k) rhs[k] += dt * f[k];
+  if (!s.system.factorize()) {
+    s.solver_ok = false;
+    return;
+  }
+  s.solver_ok = true;
+  s.system.solveInPlace(rhs);
+
+  // Integrate: v += dv, q += dt v.
+  double* vw = s.v.data();
+  double* qw = s.q.data();
+  for (int k = 0; k < 3 * n; ++k) {
+    vw[k] += rhs[k];
+    qw[k] += dt * vw[k];
+  }
+  s.time_s += dt;
+
+  // Internal variables of history-dependent tension laws, at the end of the step.
+  if (zs > 0) {
+    for (int e = 0; e + 1 < n; ++e) {
+      double strain, strain_rate;
+      elementStrain(m, s, e, &strain, &strain_rate);
+      m.tension_law->advance(strain, strain_rate, dt, &s.tension_internal[e * zs]);
+    }
+  }
+}
+
+ColonEnergy colonEnergy(const ColonModel& m, const ColonState& s) {
+  ColonEnergy en;
+  en.kinetic_J = 0.5 * scalarBandQuadratic(m.mass, s.v.data());
+  Points dq = s.q - m.q_rest;
+  en.mesentery_J = 0.5 * scalarBandQuadratic(m.mesentery_K, dq.data());
+  const int zs = m.tension_law->internalSize();
+  for (int e = 0; e + 1 < m.n; ++e) {
+    double strain, rate;
+    elementStrain(m, s, e, &strain, &rate);
+    en.tension_J += m.rest_length_m(e) *
+                    m.tension_law->storedEnergy(strain, zs ? &s.tension_internal[e * zs] : nullptr);
+  }
+  for (int i = 0; i < m.n; ++i) en.gravity_J -= m.mass_rowsum_kg(i) * m.gravity_m_per_s2.dot(s.q.col(i));
+  return en;
+}
+
+}  // namespace colosim

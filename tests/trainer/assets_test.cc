@@ -1,0 +1,135 @@
+#include "trainer/assets.h"
+
+#include <gtest/gtest.h>
+
+#include "fixture.h"
+#include "trainer/strict_json.h"
+
+namespace colosim {
+namespace {
+
+// Expects an InputError whose message contains every fragment.
+template <typename F>
+void expectInputError(F&& f, std::initializer_list<std::string> fragments) {
+  try {
+    f();
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    for (const std::string& frag : fragments)
+      EXPECT_NE(std::string(e.what()).find(frag), std::string::npos) << e.what() << "\n  lacks: " << frag;
+  }
+}
+
+// The default parameter file with one textual replacement.
+std::string paramsWith(const std::string& from, const std::string& to) {
+  std::string text = test::readFile(test::asset("params/default.json"));
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return text.replace(pos, from.size(), to);
+}
+
+std::string anatomyWith(const std::string& from, const std::string& to) {
+  std::string text = test::readFile(test::asset("anatomy/adult.json"));
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return text.replace(pos, from.size(), to);
+}
+
+TEST(Assets, ShippedFilesLoad) {
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  EXPECT_NEAR(p.colon.tension_EA_N, 892 * 0.18 * 0.18, 1e-9);
+  EXPECT_EQ(p.colon.mass_per_length_kg_per_m, 0.4);
+  EXPECT_EQ(p.colon.mesentery.size(), 2u);
+  EXPECT_NE(p.hash, 0u);
+  const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
+  EXPECT_EQ(a.regions.front().name, "rectum");
+  EXPECT_EQ(a.regions.back().name, "caecum");
+}
+
+TEST(Assets, UnknownKeyIsNamed) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"colon\": {", "\"colon\": {\"colour\": 1,"));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.colour", "unknown key"});
+  // A misspelt key is reported as missing, with the misspelling shown beside it.
+  const std::string g = dir.write("q.json", paramsWith("\"mass_per_length\"", "\"mass_per_lenght\""));
+  expectInputError([&] { loadParameters(g); }, {g, "colon.mass_per_length: missing key", "mass_per_lenght"});
+}
+
+TEST(Assets, MissingKeyIsNamed) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"tension_viscosity\"", "\"note_tension_viscosity\""));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.tension_viscosity", "missing key"});
+}
+
+TEST(Assets, WrongUnitIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"unit\": \"kg/m\"", "\"unit\": \"g/m\""));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.mass_per_length.unit", "kg/m", "g/m"});
+}
+
+TEST(Assets, NegativeMassIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"value\": 0.4", "\"value\": -0.4"));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.mass_per_length.value", "out of range"});
+}
+
+TEST(Assets, NegativeLengthIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"value\": 0.015", "\"value\": -0.015"));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.control_point_spacing.value", "out of range"});
+  const std::string a = dir.write("a.json", anatomyWith("\"radius_m\": [0.02, 0.024]", "\"radius_m\": [-0.02, 0.024]"));
+  expectInputError([&] { loadAnatomy(a); }, {a, "regions[0].radius_m[0]", "out of range"});
+}
+
+TEST(Assets, NaNAndInfinityAreRefused) {
+  test::TempDir dir;
+  const std::string nan = dir.write("nan.json", paramsWith("\"value\": 0.4", "\"value\": NaN"));
+  expectInputError([&] { loadParameters(nan); }, {nan, "invalid JSON", "line"});
+  const std::string inf = dir.write("inf.json", paramsWith("\"value\": 0.4", "\"value\": 1e999"));
+  expectInputError([&] { loadParameters(inf); }, {inf, "invalid JSON", "1e999"});
+}
+
+TEST(Assets, SyntaxErrorsGiveTheLine) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", "{\n  \"format\": \"colosim-params\",\n  \"version\": 1,,\n}");
+  expectInputError([&] { loadParameters(f); }, {f, "line 3"});
+}
+
+TEST(Assets, DuplicateKeysAreRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"version\": 1,", "\"version\": 1, \"version\": 1,"));
+  expectInputError([&] { loadParameters(f); }, {f, "duplicate key 'version'"});
+}
+
+TEST(Assets, WrongFormatOrVersionIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"version\": 1", "\"version\": 2"));
+  expectInputError([&] { loadParameters(f); }, {f, "version", "unsupported"});
+  expectInputError([&] { loadParameters(test::asset("anatomy/adult.json")); }, {"format", "colosim-params"});
+}
+
+TEST(Assets, UnknownPatientPositionIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("p.json", paramsWith("\"left_lateral\"", "\"standing\""));
+  expectInputError([&] { loadParameters(f); }, {f, "environment.patient_position.value", "standing"});
+}
+
+TEST(Assets, AnatomyInCentimetresIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("a.json", anatomyWith("[0, -0.025, 0.04]", "[0, -2.5, 4.0]"));
+  expectInputError([&] { loadAnatomy(f); }, {f, "regions[0].points_m[1]", "wrong unit"});
+}
+
+TEST(Assets, AnatomyWithAnUnknownMesenteryClassIsRefused) {
+  test::TempDir dir;
+  const std::string f = dir.write("a.json", anatomyWith("\"mesentery\": \"free\"", "\"mesentery\": \"floppy\""));
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  expectInputError([&] { loadColonModel(f, p); }, {f, "floppy"});
+}
+
+TEST(Assets, MissingFileIsNamed) {
+  expectInputError([&] { loadParameters("/nonexistent/p.json"); }, {"/nonexistent/p.json", "cannot open"});
+}
+
+}  // namespace
+}  // namespace colosim

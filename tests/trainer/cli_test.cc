@@ -1,0 +1,59 @@
+// Drives the real `colosim` executable: exit codes and messages users and scripts see.
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "fixture.h"
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+Result run(const std::string& args) {
+  Result r;
+  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t got;
+  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+TEST(Cli, HelpWorksEverywhere) {
+  EXPECT_EQ(run("--help").code, 0);
+  EXPECT_EQ(run("run --help").code, 0);
+  EXPECT_EQ(run("bench --help").code, 0);
+}
+
+TEST(Cli, RunSettlesAndSummarises) {
+  const Result r = run("run --duration 0.2");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("energy at end"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("max displacement"), std::string::npos);
+  EXPECT_NE(r.out.find("time per step"), std::string::npos);
+}
+
+TEST(Cli, BadParameterFileExitsWithTwoAndNamesIt) {
+  colosim::test::TempDir dir;
+  const std::string f = dir.write("bad.json", "{\"format\": \"colosim-params\", \"version\": 1, \"colon\": 3}");
+  const Result r = run("run --duration 0.1 --params " + f);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find(f), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("colon"), std::string::npos) << r.out;
+}
+
+TEST(Cli, UnknownBenchmarkAndBadFlagsExitWithTwo) {
+  EXPECT_EQ(run("bench no_such_bench").code, 2);
+  EXPECT_EQ(run("run --duration -1").code, 2);
+  EXPECT_EQ(run("frobnicate").code, 2);
+}
+
+}  // namespace

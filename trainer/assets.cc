@@ -1,0 +1,143 @@
+#include "trainer/assets.h"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "trainer/strict_json.h"
+
+#ifndef COLOSIM_ASSET_DIR
+#define COLOSIM_ASSET_DIR "assets"
+#endif
+
+namespace colosim {
+
+std::string assetDir() {
+  if (const char* env = std::getenv("COLOSIM_ASSETS"); env && *env) return env;
+  return COLOSIM_ASSET_DIR;
+}
+
+std::string assetPath(const std::string& relative) { return assetDir() + "/" + relative; }
+
+uint64_t hashFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return 0;
+  uint64_t h = 14695981039346656037ull;
+  char c;
+  while (in.get(c)) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+namespace {
+
+void checkHeader(JsonObject& top, const std::string& format) {
+  const std::string f = top.string("format");
+  if (f != format) top.fail("format", "expected '" + format + "', got '" + f + "'");
+  const int version = top.integer("version", 0, 1000000);
+  if (version != 1) top.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  top.ignore("description");
+}
+
+}  // namespace
+
+Parameters loadParameters(const std::string& path) {
+  const nlohmann::json j = readJsonFile(path);
+  JsonObject top(j, path);
+  checkHeader(top, "colosim-params");
+  Parameters p;
+  p.file = path;
+  p.hash = hashFile(path);
+
+  JsonObject colon = top.object("colon");
+  ColonParams& c = p.colon;
+  c.mass_per_length_kg_per_m = colon.quantity("mass_per_length", "kg/m", 1e-3, 10.0);
+  const double k_density = colon.quantity("tension_stiffness_density", "N/m/m", 1.0, 1e6);
+  const double ref_len = colon.quantity("tension_reference_length", "m", 1e-3, 10.0);
+  // The paper's stiffness per unit length of sample, times the sample length squared:
+  // EA = k_density * L^2 (assets/params/default.json explains the reading).
+  c.tension_EA_N = k_density * ref_len * ref_len;
+  c.tension_EC_Ns = colon.quantity("tension_viscosity", "N s", 0.0, 1e3);
+  c.control_point_spacing_m = colon.quantity("control_point_spacing", "m", 0.002, 0.1);
+  colon.finish();
+
+  JsonObject mes = top.object("mesentery");
+  for (const std::string& name : mes.keys()) {
+    JsonObject cls = mes.object(name);
+    MesenteryClass mc;
+    mc.stiffness_N_per_m2 = cls.quantity("stiffness", "N/m/m", 0.0, 1e7);
+    mc.damping_Ns_per_m2 = cls.quantity("damping", "N s/m/m", 0.0, 1e5);
+    cls.finish();
+    c.mesentery[name] = mc;
+  }
+  if (c.mesentery.empty()) mes.fail("", "at least one mesentery class is required");
+  mes.finish();
+
+  JsonObject env = top.object("environment");
+  c.gravity_m_per_s2 = env.quantity("gravity", "m/s^2", 0.0, 100.0);
+  c.patient_position = env.quantityChoice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
+  env.finish();
+
+  top.finish();
+  return p;
+}
+
+Anatomy loadAnatomy(const std::string& path) {
+  const nlohmann::json j = readJsonFile(path);
+  JsonObject top(j, path);
+  checkHeader(top, "colosim-anatomy");
+  Anatomy a;
+  a.name = top.string("name");
+  top.ignore("frame");
+  const nlohmann::json& regions = top.raw("regions");
+  if (!regions.is_array() || regions.empty()) top.fail("regions", "expected a non-empty list of regions");
+  size_t total_points = 0;
+  for (size_t i = 0; i < regions.size(); ++i) {
+    JsonObject r(regions[i], path, "regions[" + std::to_string(i) + "]");
+    AnatomyRegion reg;
+    reg.name = r.string("name");
+    if (reg.name.empty()) r.fail("name", "must not be empty");
+    reg.mesentery = r.string("mesentery");
+    // A lumen radius outside 2 mm .. 10 cm is a wrong unit or a typo.
+    const std::vector<double> radius = r.numbers("radius_m", 0.002, 0.1, 2, 2);
+    reg.radius_start_m = radius[0];
+    reg.radius_end_m = radius[1];
+    const nlohmann::json& pts = r.raw("points_m");
+    if (!pts.is_array() || pts.empty()) r.fail("points_m", "expected a non-empty list of [x, y, z] points");
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const std::string key = "points_m[" + std::to_string(k) + "]";
+      if (!pts[k].is_array() || pts[k].size() != 3) r.fail(key, "expected [x, y, z] in metres");
+      Vec3 p;
+      for (int d = 0; d < 3; ++d) {
+        if (!pts[k][d].is_number() || !std::isfinite(pts[k][d].get<double>()))
+          r.fail(key, "coordinates must be finite numbers");
+        p(d) = pts[k][d].get<double>();
+        // A body is well under 2 m across: larger coordinates are a wrong unit.
+        if (std::abs(p(d)) > 2.0) r.fail(key, "coordinate out of range [-2, 2] m (wrong unit?)");
+      }
+      reg.points_m.push_back(p);
+    }
+    total_points += reg.points_m.size();
+    r.ignore("note");
+    r.finish();
+    a.regions.push_back(std::move(reg));
+  }
+  if (total_points < 2) top.fail("regions", "at least two waypoints are required");
+  top.finish();
+  return a;
+}
+
+}  // namespace colosim
+
+namespace colosim {
+ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params) {
+  const Anatomy anatomy = loadAnatomy(anatomy_path);
+  try {
+    return buildColonModel(anatomy, params.colon);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(anatomy_path + ": " + e.what() + " (with parameters " + params.file + ")");
+  }
+}
+}  // namespace colosim

@@ -1,0 +1,41 @@
+// Loading colosim's asset files (parameters, anatomy) into core's plain structs.
+// Formats: docs/file-formats.md. Every reader is strict (see strict_json.h).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/colon_model.h"
+
+namespace colosim {
+
+/// Everything in a parameter file (assets/params/*.json).
+struct Parameters {
+  ColonParams colon;
+  std::string file;       ///< where it was read from
+  uint64_t hash = 0;      ///< FNV-1a of the file's bytes: names the parameter set in sessions
+};
+
+/// Reads a parameter file; throws InputError naming the file and key.
+Parameters loadParameters(const std::string& path);
+
+/// Reads an anatomy file (assets/anatomy/*.json); throws InputError naming the file and key.
+Anatomy loadAnatomy(const std::string& path);
+
+/// The folder of the shipped assets: $COLOSIM_ASSETS when set, else the source tree's
+/// assets/ folder this build was configured from.
+std::string assetDir();
+/// A shipped asset by its path relative to the asset folder, e.g. "params/default.json".
+std::string assetPath(const std::string& relative);
+
+/// FNV-1a of a file's bytes (0 when it cannot be read).
+uint64_t hashFile(const std::string& path);
+
+}  // namespace colosim
+
+namespace colosim {
+/// Builds the colon model of an anatomy file with a parameter set; a mismatch between
+/// the two (an unknown mesentery class, repeated waypoints) is an InputError naming the
+/// anatomy file.
+ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params);
+}  // namespace colosim

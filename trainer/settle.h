@@ -1,0 +1,29 @@
+// The foundation's main job: the colon settling under gravity and its mesentery.
+#pragma once
+
+#include <string>
+
+#include "core/colon_model.h"
+
+namespace colosim {
+
+struct SettleSummary {
+  int n_control_points = 0;
+  double length_m = 0;
+  double duration_s = 0;
+  double dt_s = 0;
+  long steps = 0;
+  double energy_start_J = 0;       ///< total energy at t = 0 [J]
+  double energy_end_J = 0;         ///< total energy at the end [J]
+  double kinetic_end_J = 0;        ///< kinetic energy at the end [J]
+  double max_displacement_m = 0;   ///< largest |q - q0| over control points at the end [m]
+  std::string max_displacement_region;
+  double max_speed_end_m_per_s = 0;
+  double us_per_step_median = 0;   ///< median over blocks of 100 steps [us]
+  bool finite = true;              ///< no NaN or infinity anywhere
+};
+
+/// Simulates the colon from rest for duration_s at dt_s and summarises.
+SettleSummary settleColon(const ColonModel& model, double duration_s, double dt_s);
+
+}  // namespace colosim

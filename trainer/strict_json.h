@@ -1,0 +1,75 @@
+// Strict reading of JSON input files: unknown keys, missing keys, wrong types, wrong
+// units, NaN and out-of-range values are errors naming the file and the key path.
+#pragma once
+
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/spline.h"
+
+namespace colosim {
+
+/// Bad input: a file that cannot be used as it is. The message names the file and the
+/// line or key. Commands turn it into exit code 2.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Reads and parses a JSON file. Syntax errors (with line and column), duplicate keys,
+/// an unreadable file: InputError.
+nlohmann::json readJsonFile(const std::string& path);
+
+/// Parses JSON text (for inline tests and for lines of JSON Lines files); `where` is
+/// put in front of error messages (for example "session.jsonl:12").
+nlohmann::json parseJsonText(const std::string& text, const std::string& where);
+
+/// One JSON object being read: every accessor marks its key as used, and finish()
+/// rejects the keys that were never read.
+class JsonObject {
+ public:
+  /// `where` names the file (and line, for JSON Lines); `path` is the key path so far.
+  JsonObject(const nlohmann::json& j, std::string where, std::string path = "");
+
+  bool has(const std::string& key) const;
+  std::vector<std::string> keys() const;
+
+  const nlohmann::json& raw(const std::string& key);
+  double number(const std::string& key, double lo, double hi);
+  int integer(const std::string& key, int lo, int hi);
+  bool boolean(const std::string& key);
+  std::string string(const std::string& key);
+  std::string choice(const std::string& key, const std::vector<std::string>& allowed);
+  JsonObject object(const std::string& key);
+  /// A 3-vector of finite numbers.
+  Vec3 vec3(const std::string& key, double lo, double hi);
+  /// A list of finite numbers in [lo, hi] with between min_size and max_size entries.
+  std::vector<double> numbers(const std::string& key, double lo, double hi, size_t min_size,
+                              size_t max_size);
+  /// A documented quantity {"value": v, "unit": u, "source": s[, "note": t]}: the unit
+  /// must be exactly `unit`, the value finite and within [lo, hi].
+  double quantity(const std::string& key, const std::string& unit, double lo, double hi);
+  /// A documented choice {"value": "name", "source": s[, "note": t]}.
+  std::string quantityChoice(const std::string& key, const std::vector<std::string>& allowed);
+
+  /// Marks a key as known without reading it (free text such as "note").
+  void ignore(const std::string& key);
+  /// Throws InputError naming the first key that was never read.
+  void finish() const;
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+
+  const std::string& where() const { return where_; }
+  std::string keyPath(const std::string& key) const;
+
+ private:
+  const nlohmann::json& j_;
+  std::string where_;
+  std::string path_;
+  std::set<std::string> used_;
+};
+
+}  // namespace colosim
