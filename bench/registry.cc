@@ -5,6 +5,8 @@ namespace colosim {
 const std::vector<BenchEntry>& benchmarks() {
   static const std::vector<BenchEntry> list = {
       {"colon", "colon step at 50, 100, 200, 400 control points (us per step)", benchColon},
+      {"contacts", "contact queries, FCL against the paper's scan, and the whole step (scope at the caecum)",
+       benchContacts},
   };
   return list;
 }

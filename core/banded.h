@@ -33,11 +33,11 @@ class BandedSpd {
   /// Lower-triangle entry (i, j), i >= j, i - j <= b.
   double& lower(int i, int j) {
     assert(i >= j && i - j <= b_ && i < n_ && j >= 0);
-    return a_[static_cast<std::size_t>(i) * (b_ + 1) + (i - j)];
+    return a_[static_cast<std::size_t>(i) * (b_ + 1) + (j - i + b_)];
   }
   double lower(int i, int j) const {
     assert(i >= j && i - j <= b_ && i < n_ && j >= 0);
-    return a_[static_cast<std::size_t>(i) * (b_ + 1) + (i - j)];
+    return a_[static_cast<std::size_t>(i) * (b_ + 1) + (j - i + b_)];
   }
   /// Adds v to the symmetric entry pair (i, j) and (j, i).
   void add(int i, int j, double v) {
@@ -54,9 +54,13 @@ class BandedSpd {
 
   /// Replaces the matrix by its Cholesky factor L (A = L L^T). Returns false, leaving
   /// the matrix in an undefined state, when a pivot is not positive (not SPD).
-  bool factorize();
+  bool factorize() { return factorizeLeading(n_); }
   /// Solves L L^T x = rhs in place, after factorize().
-  void solveInPlace(double* x) const;
+  void solveInPlace(double* x) const { solveLeadingInPlace(n_, x); }
+  /// The same on the leading m x m block only (rows and columns 0 .. m-1), for systems
+  /// whose size changes during a run inside storage sized once for the largest.
+  bool factorizeLeading(int m);
+  void solveLeadingInPlace(int m, double* x) const;
 
   /// Raw band storage (N x (b + 1)), for copying a precomputed matrix.
   const std::vector<double>& data() const { return a_; }
@@ -68,7 +72,7 @@ class BandedSpd {
  private:
   int n_ = 0;
   int b_ = 0;
-  std::vector<double> a_;  // row i holds A(i, i), A(i, i-1), ..., A(i, i-b)
+  std::vector<double> a_;  // row i holds A(i, i-b), ..., A(i, i-1), A(i, i): contiguous dot products
 };
 
 }  // namespace colosim

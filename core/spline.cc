@@ -107,65 +107,93 @@ double parameterAtArclength(const Points& q, int segment, double s_m) {
   return p;
 }
 
-ClosestPoint closestPointOnSegment(const Points& q, int segment, const Vec3& x, double p_lo,
-                                   double p_hi) {
+SegmentCubic segmentCubic(const Points& q, int segment) {
   const int n = static_cast<int>(q.cols());
+  // From the value and derivatives at p = 0 and the second derivative at p = 1.
+  SegmentCubic c;
+  c.c0 = apply(blend(n, segment, 0.0, 0), q);
+  c.c1 = apply(blend(n, segment, 0.0, 1), q);
+  const Vec3 d2a = apply(blend(n, segment, 0.0, 2), q);
+  const Vec3 d2b = apply(blend(n, segment, 1.0, 2), q);
+  c.c2 = 0.5 * d2a;
+  c.c3 = (d2b - d2a) / 6.0;
+  return c;
+}
+
+void segmentBounds(const Points& q, int segment, Vec3* lo, Vec3* hi) {
+  const SegmentCubic c = segmentCubic(q, segment);
+  // Bezier control points of the cubic: b0 = c(0), b1 = b0 + c'(0)/3, b2 = b3 - c'(1)/3, b3 = c(1).
+  const Vec3 b0 = c.c0, b3 = c.at(1.0);
+  const Vec3 b1 = b0 + c.c1 / 3.0;
+  const Vec3 b2 = b3 - (c.c1 + 2.0 * c.c2 + 3.0 * c.c3) / 3.0;
+  *lo = b0.cwiseMin(b1).cwiseMin(b2).cwiseMin(b3);
+  *hi = b0.cwiseMax(b1).cwiseMax(b2).cwiseMax(b3);
+}
+
+double closestParameterOnCubic(const SegmentCubic& c, const Vec3& x, double p_lo, double p_hi,
+                               double* distance_m) {
   p_lo = std::clamp(p_lo, 0.0, 1.0);
   p_hi = std::clamp(p_hi, p_lo, 1.0);
-  // The segment as a cubic polynomial c(p) = c0 + c1 p + c2 p^2 + c3 p^3, from the
-  // weights at p = 0 and the derivatives there (exact for a cubic).
-  const Vec3 c0 = apply(blend(n, segment, 0.0, 0), q);
-  const Vec3 c1 = apply(blend(n, segment, 0.0, 1), q);
-  const Vec3 d2 = apply(blend(n, segment, 0.0, 2), q);
-  const Vec3 d2b = apply(blend(n, segment, 1.0, 2), q);
-  const Vec3 c2 = 0.5 * d2;
-  const Vec3 c3 = (d2b - d2) / 6.0;
-  auto pos = [&](double p) { return Vec3(c0 + p * (c1 + p * (c2 + p * c3))); };
-  auto der = [&](double p) { return Vec3(c1 + p * (2.0 * c2 + p * 3.0 * c3)); };
-  auto der2 = [&](double p) { return Vec3(2.0 * c2 + 6.0 * p * c3); };
-  // g(p) = d/dp |c(p) - x|^2 / 2
-  auto g = [&](double p) { return der(p).dot(pos(p) - x); };
-  auto dg = [&](double p) { return der2(p).dot(pos(p) - x) + der(p).squaredNorm(); };
-
-  ClosestPoint best;
-  best.segment = segment;
-  auto consider = [&](double p) {
-    const Vec3 m = pos(p);
-    const double d = (m - x).norm();
-    if (d < best.distance || best.distance < 0) {
-      best.distance = d;
-      best.p = p;
-      best.point = m;
-    }
+  // g(p) = c'(p) . (c(p) - x) / 1, a degree-5 polynomial: its coefficients once, then Horner.
+  const Vec3 d0 = c.c0 - x;
+  const Vec3 e1 = c.c1, e2 = 2.0 * c.c2, e3 = 3.0 * c.c3;  // c' = e1 + e2 p + e3 p^2
+  double g[6];
+  g[0] = e1.dot(d0);
+  g[1] = e1.dot(c.c1) + e2.dot(d0);
+  g[2] = e1.dot(c.c2) + e2.dot(c.c1) + e3.dot(d0);
+  g[3] = e1.dot(c.c3) + e2.dot(c.c2) + e3.dot(c.c1);
+  g[4] = e2.dot(c.c3) + e3.dot(c.c2);
+  g[5] = e3.dot(c.c3);
+  auto G = [&](double p) { return g[0] + p * (g[1] + p * (g[2] + p * (g[3] + p * (g[4] + p * g[5])))); };
+  auto dG = [&](double p) {
+    return g[1] + p * (2 * g[2] + p * (3 * g[3] + p * (4 * g[4] + p * 5 * g[5])));
   };
-  best.distance = -1.0;
-  consider(p_lo);
-  consider(p_hi);
+  auto dist2 = [&](double p) { return (c.at(p) - x).squaredNorm(); };
 
-  constexpr int kSamples = 8;
+  double best_p = p_lo, best = dist2(p_lo);
+  const double d_hi = dist2(p_hi);
+  if (d_hi < best) best = d_hi, best_p = p_hi;
+  // Every minimum of the distance is a sign change of g from - to +: bracket them on 4
+  // sub-intervals and refine each by Newton, bisecting whenever Newton leaves the bracket.
+  // (A 1-2 cm segment rarely holds more than one minimum: two in one quarter would need
+  // a point near the segment's centre of curvature.)
+  constexpr int kSamples = 4;
   const double h = (p_hi - p_lo) / kSamples;
-  if (h <= 0) return best;
-  double a = p_lo, ga = g(a);
-  for (int k = 1; k <= kSamples; ++k) {
-    const double b = (k == kSamples) ? p_hi : p_lo + k * h;
-    const double gb = g(b);
-    if (ga < 0 && gb >= 0) {  // a minimum of the distance lies in [a, b]
-      double lo = a, hi = b, p = 0.5 * (a + b);
-      for (int it = 0; it < 40; ++it) {
-        const double gp = g(p);
-        if (gp < 0) lo = p; else hi = p;
-        const double slope = dg(p);
-        double next = (slope > 0) ? p - gp / slope : 0.5 * (lo + hi);
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (std::abs(next - p) < 1e-14) { p = next; break; }
-        p = next;
+  if (h > 0) {
+    double a = p_lo, ga = G(a);
+    for (int k = 1; k <= kSamples; ++k) {
+      const double b = (k == kSamples) ? p_hi : p_lo + k * h;
+      const double gb = G(b);
+      if (ga < 0 && gb >= 0) {
+        double lo = a, hi = b, p = a - ga * (b - a) / (gb - ga);  // secant start
+        for (int it = 0; it < 40; ++it) {
+          const double gp = G(p);
+          if (gp < 0) lo = p; else hi = p;
+          const double slope = dG(p);
+          double next = (slope > 0) ? p - gp / slope : 0.5 * (lo + hi);
+          if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+          if (std::abs(next - p) < 1e-12) { p = next; break; }
+          p = next;
+        }
+        const double d = dist2(p);
+        if (d < best) best = d, best_p = p;
       }
-      consider(p);
+      a = b;
+      ga = gb;
     }
-    a = b;
-    ga = gb;
   }
-  return best;
+  *distance_m = std::sqrt(best);
+  return best_p;
+}
+
+ClosestPoint closestPointOnSegment(const Points& q, int segment, const Vec3& x, double p_lo,
+                                   double p_hi) {
+  const SegmentCubic c = segmentCubic(q, segment);
+  ClosestPoint r;
+  r.segment = segment;
+  r.p = closestParameterOnCubic(c, x, p_lo, p_hi, &r.distance);
+  r.point = c.at(r.p);
+  return r;
 }
 
 ClosestPoint closestPointOnSpline(const Points& q, const Vec3& x) {

@@ -15,6 +15,7 @@
 #include <array>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace colosim {
 
@@ -63,6 +64,23 @@ struct ClosestPoint {
   Vec3 point = Vec3::Zero();   ///< M_j(p) [m]
   double distance = 0.0;       ///< |x - M_j(p)| [m]
 };
+
+/// Segment j as a cubic polynomial c(p) = c0 + c1 p + c2 p^2 + c3 p^3 [m]: computed once
+/// per step and shared by every closest-point query on that segment.
+struct SegmentCubic {
+  Vec3 c0 = Vec3::Zero(), c1 = Vec3::Zero(), c2 = Vec3::Zero(), c3 = Vec3::Zero();
+  Vec3 at(double p) const { return c0 + p * (c1 + p * (c2 + p * c3)); }
+};
+SegmentCubic segmentCubic(const Points& q, int segment);
+
+/// Axis-aligned bounds of a segment from its Bezier control points (the curve lies in
+/// their convex hull) [m].
+void segmentBounds(const Points& q, int segment, Vec3* lo, Vec3* hi);
+
+/// Closest point of the cubic to x for p in [p_lo, p_hi] (see closestPointOnSegment).
+/// Returns p [-] and writes the distance [m].
+double closestParameterOnCubic(const SegmentCubic& c, const Vec3& x, double p_lo, double p_hi,
+                               double* distance_m);
 
 /// Closest point of segment `segment` to x, restricted to p in [p_lo, p_hi] within [0, 1].
 /// Samples the squared distance at 8 sub-intervals, refines every bracketed minimum

@@ -75,6 +75,37 @@ Parameters loadParameters(const std::string& path) {
   if (c.mesentery.empty()) mes.fail("", "at least one mesentery class is required");
   mes.finish();
 
+  JsonObject scope = top.object("scope");
+  ScopeParams& sp = p.scope;
+  sp.working_length_m = scope.quantity("working_length", "m", 0.1, 3.0);
+  sp.outer_diameter_m = scope.quantity("outer_diameter", "m", 0.002, 0.03);
+  sp.mass_per_length_kg_per_m = scope.quantity("mass_per_length", "kg/m", 0.01, 5.0);
+  sp.bending_stiffness_Nm2 = scope.quantity("bending_stiffness", "N m^2", 1e-4, 10.0);
+  sp.torsional_stiffness_Nm2 = scope.quantity("torsional_stiffness", "N m^2/rad", 1e-4, 100.0);
+  sp.bending_section_length_m = scope.quantity("bending_section_length", "m", 0.01, 0.3);
+  sp.segment_length_m = scope.quantity("segment_length", "m", 0.002, 0.05);
+  sp.joint_stiffness_N_per_m = scope.quantity("joint_stiffness", "N/m", 1e3, 1e9);
+  sp.joint_damping_s = scope.quantity("joint_damping", "s", 0.0, 1.0);
+  sp.drag_Ns_per_m2 = scope.quantity("drag", "N s/m/m", 0.0, 1e3);
+  sp.slices_per_segment = static_cast<int>(scope.quantity("slices_per_segment", "1", 1, 8));
+  sp.points_per_slice = static_cast<int>(scope.quantity("points_per_slice", "1", 1, 32));
+  if (sp.slices_per_segment != scope.raw("slices_per_segment")["value"].get<double>() ||
+      sp.points_per_slice != scope.raw("points_per_slice")["value"].get<double>())
+    scope.fail("points_per_slice", "slice and point counts must be whole numbers");
+  scope.finish();
+
+  JsonObject contact = top.object("contact");
+  ContactParams& cp = p.contact;
+  cp.wall_stiffness_N_per_m = contact.quantity("wall_stiffness", "N/m", 0.0, 1e6);
+  cp.wall_damping_Ns_per_m = contact.quantity("wall_damping", "N s/m", 0.0, 1e4);
+  cp.friction_coefficient = contact.quantity("friction_coefficient", "1", 0.0, 2.0);
+  cp.friction_velocity_m_per_s = contact.quantity("friction_velocity", "m/s", 1e-6, 1.0);
+  cp.self_stiffness_N_per_m = contact.quantity("self_stiffness", "N/m", 0.0, 1e6);
+  cp.self_damping_Ns_per_m = contact.quantity("self_damping", "N s/m", 0.0, 1e4);
+  cp.self_neighbour_radii = contact.quantity("self_neighbour_radii", "1", 0.0, 100.0);
+  cp.query_margin_m = contact.quantity("query_margin", "m", 0.0, 0.2);
+  contact.finish();
+
   JsonObject env = top.object("environment");
   c.gravity_m_per_s2 = env.quantity("gravity", "m/s^2", 0.0, 100.0);
   c.patient_position = env.quantityChoice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
@@ -138,6 +169,17 @@ ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& par
     return buildColonModel(anatomy, params.colon);
   } catch (const std::invalid_argument& e) {
     throw InputError(anatomy_path + ": " + e.what() + " (with parameters " + params.file + ")");
+  }
+}
+}  // namespace colosim
+
+namespace colosim {
+WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params) {
+  ColonModel colon = loadColonModel(anatomy_path, params);
+  try {
+    return makeWorldModel(std::move(colon), params.scope, params.contact);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(params.file + ": " + e.what());
   }
 }
 }  // namespace colosim

@@ -6,12 +6,17 @@
 #include <string>
 
 #include "core/colon_model.h"
+#include "core/contact.h"
+#include "core/scope_model.h"
+#include "core/world.h"
 
 namespace colosim {
 
 /// Everything in a parameter file (assets/params/*.json).
 struct Parameters {
   ColonParams colon;
+  ScopeParams scope;
+  ContactParams contact;
   std::string file;       ///< where it was read from
   uint64_t hash = 0;      ///< FNV-1a of the file's bytes: names the parameter set in sessions
 };
@@ -38,4 +43,6 @@ namespace colosim {
 /// the two (an unknown mesentery class, repeated waypoints) is an InputError naming the
 /// anatomy file.
 ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params);
+/// The world (colon, scope at its anus, contacts) of an anatomy file with a parameter set.
+WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params);
 }  // namespace colosim

@@ -1,0 +1,84 @@
+#include "core/contact.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace colosim {
+
+bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a, int b) {
+  const double ds = std::abs(colon.s_rest_m(b) - colon.s_rest_m(a));
+  return ds < params.self_neighbour_radii * std::max(colon.radius_m(a), colon.radius_m(b));
+}
+
+double applyWallContacts(const ContactParams& P, const ColonModel& colon, const ColonState& cs,
+                         const ScopeModel& /*scope*/, const ScopeState& ss, std::vector<WallContact>& contacts,
+                         std::vector<SplineLoad>& colon_loads, std::vector<ScopeLoad>& scope_loads) {
+  double max_force = 0;
+  const Mat3 I3 = Mat3::Identity();
+  for (WallContact& c : contacts) {
+    const int k = c.scope_segment;
+    const Vec3 r = c.p_W_point - ss.p_W[k];
+    const Vec3 v_point = ss.v_W[k] + ss.w_W[k].cross(r);
+    const Vec3 v_wall = apply(blend(colon.n, c.colon_segment, c.p, 0), cs.v);
+    const Vec3 v_rel = v_point - v_wall;
+    const Vec3& n = c.normal_W;
+    const double v_n = v_rel.dot(n);  // > 0: moving deeper into the wall
+    // Eq. 7: F = k_wall depth + f_wall (v . n), pushing the point back into the lumen.
+    const double f_n = P.wall_stiffness_N_per_m * c.depth_m + P.wall_damping_Ns_per_m * v_n;
+    if (!(f_n > 0)) {  // separating faster than the spring pushes: no adhesion
+      c.force_N = c.normal_force_N = 0;
+      continue;
+    }
+    c.normal_force_N = f_n;
+    // Regularised Coulomb friction against the sliding velocity.
+    const Vec3 v_t = v_rel - v_n * n;
+    const double slip = std::sqrt(v_t.squaredNorm() + P.friction_velocity_m_per_s * P.friction_velocity_m_per_s);
+    const double mu_over_slip = P.friction_coefficient * f_n / slip;
+    const Vec3 f_scope = -f_n * n - mu_over_slip * v_t;
+    c.force_N = f_scope.norm();
+    max_force = std::max(max_force, c.force_N);
+
+    const Mat3 nn = n * n.transpose();
+    const Mat3 K = P.wall_stiffness_N_per_m * nn;
+    const Mat3 C = P.wall_damping_Ns_per_m * nn + mu_over_slip * (I3 - nn);
+
+    ScopeLoad sl;
+    sl.segment = k;
+    sl.r_W = r;
+    sl.force_N = f_scope;
+    sl.stiffness_N_per_m = K;
+    sl.damping_Ns_per_m = C;
+    scope_loads.push_back(sl);
+
+    SplineLoad cl;
+    cl.segment = c.colon_segment;
+    cl.p = c.p;
+    cl.force_N = -f_scope;
+    cl.stiffness_N_per_m = K;
+    cl.damping_Ns_per_m = C;
+    colon_loads.push_back(cl);
+  }
+  return max_force;
+}
+
+void applySelfContacts(const ContactParams& P, const ColonModel& colon, const ColonState& cs,
+                       const std::vector<SelfContact>& contacts, std::vector<SplineLoad>& colon_loads) {
+  for (const SelfContact& c : contacts) {
+    const Vec3& n = c.normal_W;
+    const double v_n = (cs.v.col(c.b) - cs.v.col(c.a)).dot(n);  // < 0: approaching
+    const double f = P.self_stiffness_N_per_m * c.depth_m - P.self_damping_Ns_per_m * v_n;
+    if (!(f > 0)) continue;
+    const Mat3 nn = n * n.transpose();
+    for (int side = 0; side < 2; ++side) {
+      const int i = side == 0 ? c.a : c.b;
+      SplineLoad l;
+      controlPointLocation(colon, i, &l.segment, &l.p);
+      l.force_N = (side == 0 ? -f : f) * n;
+      l.stiffness_N_per_m = P.self_stiffness_N_per_m * nn;
+      l.damping_Ns_per_m = P.self_damping_Ns_per_m * nn;
+      colon_loads.push_back(l);
+    }
+  }
+}
+
+}  // namespace colosim

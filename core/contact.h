@@ -1,0 +1,77 @@
+// Contacts (paper section 2.5): the colonoscope against the colon wall through
+// interaction points, and the colon against itself through spheres along the spline.
+// The geometric queries that find them live in collision/ (FCL); the forces live here.
+#pragma once
+
+#include <vector>
+
+#include "core/colon_model.h"
+#include "core/colon_state.h"
+#include "core/scope_model.h"
+#include "core/scope_state.h"
+
+namespace colosim {
+
+struct ContactParams {
+  double wall_stiffness_N_per_m = 1000;   ///< k_wall per interaction point (eq. 7) [N/m]
+  double wall_damping_Ns_per_m = 1.0;     ///< f_wall per interaction point (eq. 7) [N s/m]
+  double friction_coefficient = 0.1;      ///< Coulomb mu between scope and mucosa [-] (0: the paper's model)
+  double friction_velocity_m_per_s = 0.002; ///< regularisation: full friction above ~this sliding speed [m/s]
+  double self_stiffness_N_per_m = 300;    ///< colon self-contact stiffness per sphere pair [N/m]
+  double self_damping_Ns_per_m = 1.0;     ///< colon self-contact damping per sphere pair [N s/m]
+  /// Spheres closer than this many radii in rest arclength are neighbours and never repel
+  /// (pi: a tube folded back on itself with a bend radius equal to its own radius).
+  double self_neighbour_radii = 3.14159265358979323846;
+  double query_margin_m = 0.01;           ///< how far outside the lumen a point is still found by the broadphase [m]
+};
+
+/// An interaction point of the scope outside the lumen (a query result).
+struct WallContact {
+  int scope_segment = 0;
+  int point = 0;                      ///< index into ScopeModel::interaction_points_S
+  Vec3 p_W_point = Vec3::Zero();      ///< interaction point I [m]
+  int colon_segment = 0;              ///< nearest spline point M_j(p): segment j ...
+  double p = 0;                       ///< ... and parameter p
+  Vec3 p_W_centre = Vec3::Zero();     ///< M_j(p) [m]
+  Vec3 normal_W = Vec3::Zero();       ///< unit, from M_j(p) towards I (out of the lumen)
+  double depth_m = 0;                 ///< |I - M_j(p)| - radius(p) > 0 [m]
+  double force_N = 0;                 ///< magnitude of the contact force (filled by the force stage) [N]
+  double normal_force_N = 0;          ///< its normal part, eq. 7 (filled by the force stage) [N]
+};
+
+/// Two colon spheres (at control points a < b, not neighbours) that intersect.
+struct SelfContact {
+  int a = 0, b = 0;
+  Vec3 normal_W = Vec3::Zero();  ///< unit, from a towards b
+  double depth_m = 0;            ///< r_a + r_b - |q_b - q_a| > 0 [m]
+};
+
+/// Where an interaction point last found the wall: its tracked spline location.
+struct WallTrack {
+  int colon_segment = -1;  ///< -1: not tracked yet
+  double p = 0;
+};
+
+/// Computes the viscoelastic normal force of eq. 7 with regularised Coulomb friction for
+/// every wall contact, and appends the loads on the scope (at the interaction point) and
+/// on the colon (at M_j(p), opposite) with their stiffness and damping. Returns the
+/// largest contact force magnitude [N] and fills WallContact::force_N.
+double applyWallContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,
+                         const ScopeModel& scope, const ScopeState& scope_state,
+                         std::vector<WallContact>& contacts, std::vector<SplineLoad>& colon_loads,
+                         std::vector<ScopeLoad>& scope_loads);
+
+/// Appends the loads of the colon self-contacts (equal and opposite at the two control points).
+void applySelfContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,
+                       const std::vector<SelfContact>& contacts, std::vector<SplineLoad>& colon_loads);
+
+/// True when control points a and b are neighbours along the colon (no self-contact force).
+bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a, int b);
+
+/// The spline location (segment, p) of control point i, for loads applied there.
+inline void controlPointLocation(const ColonModel& colon, int i, int* segment, double* p) {
+  *segment = (i < colon.n - 1) ? i : colon.n - 2;
+  *p = (i < colon.n - 1) ? 0.0 : 1.0;
+}
+
+}  // namespace colosim

@@ -1,0 +1,53 @@
+#include "core/scope_model.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace colosim {
+
+ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec3& entry,
+                           const Vec3& up_hint, const Vec3& gravity) {
+  if (!(p.segment_length_m > 0) || !(p.working_length_m > 2 * p.segment_length_m))
+    throw std::invalid_argument("scope: the working length must exceed two segments");
+  if (!(p.outer_diameter_m > 0) || !(p.mass_per_length_kg_per_m > 0) || !(p.bending_stiffness_Nm2 > 0) ||
+      !(p.torsional_stiffness_Nm2 > 0) || !(p.joint_stiffness_N_per_m > 0))
+    throw std::invalid_argument("scope: diameter, mass, stiffnesses must be positive");
+  if (p.slices_per_segment < 1 || p.points_per_slice < 1)
+    throw std::invalid_argument("scope: at least one slice of one interaction point");
+  if (!(entry.norm() > 0)) throw std::invalid_argument("scope: entry direction is zero");
+
+  ScopeModel m;
+  m.params = p;
+  m.h_m = p.segment_length_m;
+  m.segment_count = static_cast<int>(std::ceil(p.working_length_m / m.h_m - 1e-9));
+  m.radius_m = 0.5 * p.outer_diameter_m;
+  m.segment_mass_kg = p.mass_per_length_kg_per_m * m.h_m;
+  // A solid cylinder's inertia: about its axis m r^2 / 2; across it m (3 r^2 + h^2) / 12.
+  const double r2 = m.radius_m * m.radius_m;
+  const double i_perp = m.segment_mass_kg * (3 * r2 + m.h_m * m.h_m) / 12.0;
+  m.segment_inertia_kgm2 = Vec3(i_perp, i_perp, 0.5 * m.segment_mass_kg * r2);
+  m.joint_stiffness_Nm_per_rad = Vec3(p.bending_stiffness_Nm2 / m.h_m, p.bending_stiffness_Nm2 / m.h_m,
+                                      p.torsional_stiffness_Nm2 / m.h_m);
+  m.bending_joints = std::max(1, static_cast<int>(std::lround(p.bending_section_length_m / m.h_m)));
+  m.p_W_anus = p_W_anus;
+  const Vec3 d3 = entry.normalized();
+  Vec3 d2 = up_hint - up_hint.dot(d3) * d3;
+  if (d2.norm() < 1e-6) d2 = d3.unitOrthogonal();
+  d2.normalize();
+  m.R_W_entry.col(0) = d2.cross(d3);
+  m.R_W_entry.col(1) = d2;
+  m.R_W_entry.col(2) = d3;
+  m.gravity_m_per_s2 = gravity;
+
+  for (int s = 0; s < p.slices_per_segment; ++s) {
+    // Slices end at the segment's distal end: the tip face and every joint are covered.
+    const double z = m.h_m * ((s + 1.0) / p.slices_per_segment - 0.5);
+    for (int k = 0; k < p.points_per_slice; ++k) {
+      const double a = 2 * M_PI * k / p.points_per_slice;
+      m.interaction_points_S.emplace_back(m.radius_m * std::cos(a), m.radius_m * std::sin(a), z);
+    }
+  }
+  return m;
+}
+
+}  // namespace colosim

@@ -1,0 +1,62 @@
+// The colonoscope: a chain of short rigid segments joined by elastic joints that resist
+// bending (EI) and torsion (GJ) -- the paper's polyarticulated structure, generalised to
+// a flexible endoscope. Built once; what changes lives in ScopeState (scope_state.h).
+//
+// Segments are indexed from the tip (segment 0) towards the handle. Segment k spans the
+// scope arclength s in [k h, (k+1) h] measured from the tip. With the tip at depth L
+// (HandleInput::insertion_m) through the anus, segments with (k+1) h <= L are fully inside
+// and simulated; the others are outside: straight along the entry direction, moved and
+// turned by the handle (kinematic). Only the inside part is simulated, and it grows or
+// shrinks as the scope is pushed or withdrawn.
+//
+// Material frame of a segment: the columns of R_WS are d1 (right), d2 (up) and d3 (the
+// axis, pointing distally, towards the tip).
+#pragma once
+
+#include <vector>
+
+#include "core/spline.h"
+
+namespace colosim {
+
+struct ScopeParams {
+  double working_length_m = 1.6;          ///< insertion tube length [m]
+  double outer_diameter_m = 0.0125;       ///< [m]
+  double mass_per_length_kg_per_m = 0.2;  ///< [kg/m]
+  double bending_stiffness_Nm2 = 0.03;    ///< EI [N m^2]
+  double torsional_stiffness_Nm2 = 0.4;   ///< GJ [N m^2/rad]
+  double bending_section_length_m = 0.09; ///< steerable tip [m]
+  double segment_length_m = 0.015;        ///< h: length of one rigid segment [m]
+  double joint_stiffness_N_per_m = 2e6;   ///< penalty keeping consecutive segments joined [N/m]
+  double joint_damping_s = 0.002;         ///< joint damping as a time constant: C = t K [s]
+  double drag_Ns_per_m2 = 1.0;            ///< viscous drag per length of the inserted tube [N s/m per m]
+  int slices_per_segment = 1;             ///< slices of interaction points per segment (paper Fig. 5)
+  int points_per_slice = 6;               ///< interaction points around each slice
+};
+
+struct ScopeModel {
+  ScopeParams params;
+  int segment_count = 0;          ///< K segments over the working length
+  double h_m = 0;                 ///< segment length [m]
+  double radius_m = 0;            ///< outer radius [m]
+  double segment_mass_kg = 0;     ///< [kg]
+  Vec3 segment_inertia_kgm2 = Vec3::Zero();  ///< principal inertia about d1, d2, d3 [kg m^2]
+  Vec3 joint_stiffness_Nm_per_rad = Vec3::Zero();  ///< (EI/h, EI/h, GJ/h) [N m/rad]
+  int bending_joints = 0;         ///< joints 0 .. bending_joints-1 are steered by the knobs
+  Vec3 p_W_anus = Vec3::Zero();   ///< the anus: fixed entry point [m]
+  Mat3 R_W_entry = Mat3::Identity();  ///< scope frame at the anus at zero rotation (d3 = entry direction)
+  Vec3 gravity_m_per_s2 = Vec3::Zero();
+  /// Interaction points of one segment in its own frame, relative to its centre [m]:
+  /// slice after slice (the last at the segment's distal end), points_per_slice each,
+  /// around the circumference.
+  std::vector<Vec3> interaction_points_S;
+};
+
+/// Builds the scope model for an entry at p_W_anus along entry_direction (towards the
+/// inside); `up_hint` fixes d2 at zero handle rotation. Throws std::invalid_argument for
+/// non-physical parameters.
+ScopeModel buildScopeModel(const ScopeParams& params, const Vec3& p_W_anus,
+                           const Vec3& entry_direction, const Vec3& up_hint,
+                           const Vec3& gravity_m_per_s2);
+
+}  // namespace colosim

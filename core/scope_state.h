@@ -1,0 +1,68 @@
+// Everything that changes in the colonoscope, plus the step's scratch space.
+#pragma once
+
+#include <vector>
+
+#include "core/banded.h"
+#include "core/handle_input.h"
+#include "core/scope_model.h"
+
+namespace colosim {
+
+/// A load on one scope segment at a point of it (a wall contact): force, and the
+/// stiffness and damping of that force with respect to the point's motion.
+struct ScopeLoad {
+  int segment = 0;
+  Vec3 r_W = Vec3::Zero();                ///< lever: point minus segment centre, world [m]
+  Vec3 force_N = Vec3::Zero();            ///< force on the scope at the point [N]
+  Mat3 stiffness_N_per_m = Mat3::Zero();  ///< -dF/dx (symmetric PSD)
+  Mat3 damping_Ns_per_m = Mat3::Zero();   ///< -dF/dv (symmetric PSD)
+};
+
+/// What the handle feels: the force and torque the operator must apply to move the handle
+/// as commanded (quasi-static: the handle's own inertia is not included).
+struct HandleReaction {
+  double force_N = 0;      ///< axial force, positive when pushing in [N]
+  double torque_Nm = 0;    ///< axial torque, positive clockwise as seen by the operator [N m]
+  Vec3 force_W = Vec3::Zero();   ///< full force the scope exerts on the anus/handle, world [N]
+};
+
+struct ScopeState {
+  std::vector<Vec3> p_W;   ///< segment centres (K) [m]
+  std::vector<Mat3> R_WS;  ///< segment frames (K): columns d1, d2, d3
+  std::vector<Vec3> v_W;   ///< segment centre velocities (K) [m/s]
+  std::vector<Vec3> w_W;   ///< segment angular velocities, world (K) [rad/s]
+  int inside = 0;          ///< simulated segments: 0 .. inside-1 (the rest are kinematic)
+  HandleInput input;       ///< handle inputs of the last step, after clamping
+  double time_s = 0;       ///< [s]
+  std::vector<ScopeLoad> loads;  ///< loads for the next step (cleared by the caller)
+  HandleReaction handle;   ///< reaction after the last step
+  bool solver_ok = true;
+
+  // Scratch, sized by makeScopeState() so that the step allocates nothing.
+  BandedSpd system;        ///< 6 unknowns per segment, half-bandwidth 11
+  Eigen::VectorXd rhs;
+  Eigen::VectorXd force;
+};
+
+/// The scope withdrawn (tip at the anus), with scratch sized for the model.
+ScopeState makeScopeState(const ScopeModel& model, int load_capacity = 4096);
+
+/// The pose of segment k when it is outside (kinematic): straight along the entry
+/// direction at insertion depth L [m], turned by the handle rotation phi [rad].
+void kinematicPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad,
+                   Vec3* p_W, Mat3* R_WS);
+
+/// Clamps handle inputs into the scope's ranges (insertion within the working length,
+/// knobs within their stops); NaN becomes 0.
+HandleInput clampHandleInput(const ScopeModel& model, const HandleInput& in);
+
+/// Tip position [m] and frame (camera frame: d1 right, d2 up, d3 viewing direction).
+Vec3 tipPosition(const ScopeModel& model, const ScopeState& state);
+Mat3 tipFrame(const ScopeState& state);
+
+/// Flat snapshot of the physical state, and its restoration (same model).
+std::vector<double> getScopeState(const ScopeState& state);
+void setScopeState(const std::vector<double>& snapshot, ScopeState& state);
+
+}  // namespace colosim

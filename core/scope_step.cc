@@ -1,0 +1,311 @@
+#include "core/scope_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "core/rotation.h"
+
+namespace colosim {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
+  ScopeState s;
+  const int K = m.segment_count;
+  s.p_W.resize(K);
+  s.R_WS.resize(K);
+  s.v_W.assign(K, Vec3::Zero());
+  s.w_W.assign(K, Vec3::Zero());
+  for (int k = 0; k < K; ++k) kinematicPose(m, k, 0.0, 0.0, &s.p_W[k], &s.R_WS[k]);
+  s.inside = 0;
+  s.loads.reserve(load_capacity);
+  s.system.resize(6 * K, 11);
+  s.rhs = Eigen::VectorXd::Zero(6 * K);
+  s.force = Eigen::VectorXd::Zero(6 * K);
+  return s;
+}
+
+void kinematicPose(const ScopeModel& m, int k, double L, double phi, Vec3* p, Mat3* R) {
+  const Vec3 e = m.R_W_entry.col(2);
+  const double s_centre = (k + 0.5) * m.h_m;
+  *p = m.p_W_anus + (L - s_centre) * e;
+  *R = expSO3(phi * e) * m.R_W_entry;
+}
+
+HandleInput clampHandleInput(const ScopeModel& m, const HandleInput& in) {
+  auto finite = [](double x) { return std::isfinite(x) ? x : 0.0; };
+  HandleInput c;
+  const double max_insertion = (m.segment_count - 1) * m.h_m;
+  c.insertion_m = std::clamp(finite(in.insertion_m), 0.0, max_insertion);
+  c.rotation_rad = finite(in.rotation_rad);
+  c.knob_updown_rad = std::clamp(finite(in.knob_updown_rad), -kKnobUpDownMax_rad, kKnobUpDownMax_rad);
+  c.knob_leftright_rad =
+      std::clamp(finite(in.knob_leftright_rad), -kKnobLeftRightMax_rad, kKnobLeftRightMax_rad);
+  return c;
+}
+
+Vec3 tipPosition(const ScopeModel& m, const ScopeState& s) {
+  return s.p_W[0] + 0.5 * m.h_m * s.R_WS[0].col(2);
+}
+
+Mat3 tipFrame(const ScopeState& s) { return s.R_WS[0]; }
+
+Vec3 restJointRotation(const ScopeModel& m, int joint, const HandleInput& in) {
+  if (joint >= m.bending_joints) return Vec3::Zero();
+  // Up bends d3 towards d2: a rotation about d1 by -angle; right bends d3 towards d1: about d2.
+  const double n = m.bending_joints;
+  return Vec3(-in.knob_updown_rad / n, in.knob_leftright_rad / n, 0.0);
+}
+
+namespace {
+
+// Adds a 6x6 block at block position (I, J) of the symmetric system (see colon_step.cc).
+inline void addBlock6(BandedSpd& a, int I, int J, const Mat6& B) {
+  if (I == J) {
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c <= r; ++c) a.lower(6 * I + r, 6 * I + c) += B(r, c);
+  } else if (I > J) {
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) a.lower(6 * I + r, 6 * J + c) += B(r, c);
+  } else {
+    for (int r = 0; r < 6; ++r)
+      for (int c = 0; c < 6; ++c) a.lower(6 * J + c, 6 * I + r) += B(r, c);
+  }
+}
+
+inline Vec6 stacked(const Vec3& a, const Vec3& b) {
+  Vec6 x;
+  x << a, b;
+  return x;
+}
+
+// The terms of joint k (between segment k, distal, and k+1, proximal) at the current
+// state: generalised forces on both, and their 6x6 stiffness and damping blocks.
+struct JointTerms {
+  Vec6 f_distal, f_proximal;  // generalised forces (force; torque)
+  Mat6 K_dd, K_pp, K_dp;      // stiffness blocks: (k,k), (k+1,k+1), (k,k+1)
+};
+
+JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const HandleInput& in) {
+  const double h = m.h_m;
+  const Vec3 d3k = s.R_WS[k].col(2), d3p = s.R_WS[k + 1].col(2);
+  // Position: the distal segment's proximal end meets the proximal segment's distal end.
+  // gap rate = Jd u_k + Jp u_{k+1} with Jd = [I, Sd], Jp = [-I, Sp], S = (h/2)[d3]x.
+  const Vec3 gap = (s.p_W[k] - 0.5 * h * d3k) - (s.p_W[k + 1] + 0.5 * h * d3p);
+  const Mat3 Sd = 0.5 * h * skew(d3k), Sp = 0.5 * h * skew(d3p);
+  const double kj = m.params.joint_stiffness_N_per_m;
+  const Vec3 gap_rate = s.v_W[k] + Sd * s.w_W[k] - s.v_W[k + 1] + Sp * s.w_W[k + 1];
+  const Vec3 fg = kj * (gap + m.params.joint_damping_s * gap_rate);
+
+  // Rotation: bending and torsion against the rest rotation.
+  const Mat3 R_rel = s.R_WS[k + 1].transpose() * s.R_WS[k];
+  const Vec3 omega = logSO3(R_rel);
+  const Vec3 err = omega - restJointRotation(m, k, in);
+  const Mat3 A = rightJacobianInverse(omega) * s.R_WS[k].transpose();
+  const Vec3 rel_rate = A * (s.w_W[k] - s.w_W[k + 1]);
+  const Vec3& kd = m.joint_stiffness_Nm_per_rad;
+  const Vec3 moment = kd.cwiseProduct(err + m.params.joint_damping_s * rel_rate);  // joint frame
+  const Vec3 tau = A.transpose() * moment;  // world torque on the distal segment is -tau
+
+  JointTerms t;
+  // Generalised forces -J^T fg (J^T = [I; S^T] with S^T = -S), plus the rotational moment.
+  t.f_distal << -fg, Sd * fg - tau;
+  t.f_proximal << fg, Sp * fg + tau;
+  // Gauss-Newton stiffness kj J^T J from 3x3 pieces, plus A^T K A on the rotations.
+  const Mat3 AKA = A.transpose() * kd.asDiagonal() * A;
+  const Mat3 I3 = Mat3::Identity();
+  t.K_dd << kj * I3, kj * Sd, -kj * Sd, -kj * Sd * Sd + AKA;
+  t.K_pp << kj * I3, -kj * Sp, kj * Sp, -kj * Sp * Sp + AKA;
+  t.K_dp << -kj * I3, kj * Sp, kj * Sd, -kj * Sd * Sp - AKA;
+  return t;
+}
+
+}  // namespace
+
+void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, double dt) {
+  const HandleInput in = clampHandleInput(m, raw_in);
+  const int K = m.segment_count;
+  const double h = m.h_m;
+  const Vec3 e = m.R_W_entry.col(2);
+  const double insertion_rate = (in.insertion_m - s.input.insertion_m) / dt;
+  const double rotation_rate = (in.rotation_rad - s.input.rotation_rad) / dt;
+
+  // Inputs: the part outside moves with the handle; segments that crossed the anus are
+  // added to (pushed in) or removed from (withdrawn) the simulated chain.
+  const int inside = std::min(K - 1, static_cast<int>(std::floor(in.insertion_m / h + 1e-9)));
+  for (int k = std::min(inside, s.inside); k < K; ++k) {
+    if (k < inside && k < s.inside) continue;
+    kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
+    s.v_W[k] = insertion_rate * e;
+    s.w_W[k] = rotation_rate * e;
+  }
+  // A segment that has just crossed the anus joins the chain pre-relaxed: turned by half of
+  // its distal neighbour's joint rotation (where the bending moment would put it) and
+  // hanging from the outside part's distal end, so that it does not swing into place
+  // (a spurious kick on the handle force).
+  for (int k = std::max(s.inside, 1); k < inside; ++k) {
+    const Vec3 half = 0.5 * logSO3(s.R_WS[k].transpose() * s.R_WS[k - 1]);
+    const Vec3 joint_W = s.p_W[k] - 0.5 * h * s.R_WS[k].col(2);  // proximal end: fixed
+    s.R_WS[k] = s.R_WS[k] * expSO3(half);
+    s.p_W[k] = joint_W + 0.5 * h * s.R_WS[k].col(2);
+  }
+  s.inside = inside;
+  s.input = in;
+  s.time_s += dt;
+  if (inside == 0) {
+    s.handle = HandleReaction();
+    s.solver_ok = true;
+    return;
+  }
+
+  // Forces and the system, per segment then per joint then per load.
+  const int n = 6 * inside;
+  double* f = s.force.data();
+  double* rhs = s.rhs.data();
+  std::fill(f, f + n, 0.0);
+  std::fill(rhs, rhs + n, 0.0);
+  // Only the first n rows are used: reset the band there.
+  {
+    BandedSpd& a = s.system;
+    for (int i = 0; i < n; ++i)
+      for (int j = std::max(0, i - 11); j <= i; ++j) a.lower(i, j) = 0.0;
+  }
+  const double drag = m.params.drag_Ns_per_m2 * h;
+  for (int k = 0; k < inside; ++k) {
+    Mat6 Mk = Mat6::Zero();
+    Mk.topLeftCorner<3, 3>() = (m.segment_mass_kg + dt * drag) * Mat3::Identity();
+    Mk.bottomRightCorner<3, 3>() =
+        s.R_WS[k] * m.segment_inertia_kgm2.asDiagonal() * s.R_WS[k].transpose();
+    addBlock6(s.system, k, k, Mk);
+    const Vec3 fk = m.segment_mass_kg * m.gravity_m_per_s2 - drag * s.v_W[k];
+    for (int c = 0; c < 3; ++c) f[6 * k + c] += fk(c);
+  }
+
+  const double beta = m.params.joint_damping_s;
+  const double sys_k = dt * beta + dt * dt;  // dt C + dt^2 K with C = beta K
+  for (int k = 0; k < inside; ++k) {  // joint k joins segment k and k+1 (k+1 == inside: the base)
+    const JointTerms t = jointTerms(m, s, k, in);
+    const bool proximal_simulated = (k + 1 < inside);
+    const Vec6 uk = stacked(s.v_W[k], s.w_W[k]);
+    for (int c = 0; c < 6; ++c) f[6 * k + c] += t.f_distal(c);
+    addBlock6(s.system, k, k, sys_k * t.K_dd);
+    Vec6 Ku_k = t.K_dd * uk;
+    if (proximal_simulated) {
+      const Vec6 up = stacked(s.v_W[k + 1], s.w_W[k + 1]);
+      Ku_k += t.K_dp * up;
+      const Vec6 Ku_p = t.K_pp * up + t.K_dp.transpose() * uk;
+      for (int c = 0; c < 6; ++c) {
+        f[6 * (k + 1) + c] += t.f_proximal(c);
+        rhs[6 * (k + 1) + c] -= dt * dt * Ku_p(c);
+      }
+      addBlock6(s.system, k + 1, k + 1, sys_k * t.K_pp);
+      addBlock6(s.system, k, k + 1, sys_k * t.K_dp);
+    }
+    for (int c = 0; c < 6; ++c) rhs[6 * k + c] -= dt * dt * Ku_k(c);
+  }
+
+  for (const ScopeLoad& load : s.loads) {
+    if (load.segment < 0 || load.segment >= inside) continue;
+    // Point velocity v + w x r = J u with J = [I, -[r]x]; J^T = [I; [r]x].
+    const int k = load.segment;
+    const Mat3 Rx = skew(load.r_W);
+    const Vec3 v_point = s.v_W[k] + s.w_W[k].cross(load.r_W);
+    const Vec3 Kv = load.stiffness_N_per_m * v_point;
+    const Vec3 torque = load.r_W.cross(load.force_N), Ktorque = load.r_W.cross(Kv);
+    for (int c = 0; c < 3; ++c) {
+      f[6 * k + c] += load.force_N(c);
+      f[6 * k + 3 + c] += torque(c);
+      rhs[6 * k + c] -= dt * dt * Kv(c);
+      rhs[6 * k + 3 + c] -= dt * dt * Ktorque(c);
+    }
+    const Mat3 H = dt * load.damping_Ns_per_m + dt * dt * load.stiffness_N_per_m;
+    const Mat3 HR = H * Rx;
+    Mat6 B;
+    B << H, -HR, Rx * H, -Rx * HR;
+    addBlock6(s.system, k, k, B);
+  }
+
+  // Solve (M + dt C + dt^2 K) du = dt f - dt^2 K u on the simulated segments. The band
+  // rows beyond n are left as they are: the factorisation reads only the first n rows.
+  for (int i = 0; i < n; ++i) rhs[i] += dt * f[i];
+  BandedSpd& a = s.system;
+  // The band storage is row-major, so the leading n x n block is a band matrix of its own.
+  if (!a.factorizeLeading(n)) {
+    s.solver_ok = false;
+    return;
+  }
+  s.solver_ok = true;
+  a.solveLeadingInPlace(n, rhs);
+
+  // Integrate the simulated segments.
+  for (int k = 0; k < inside; ++k) {
+    s.v_W[k] += Vec3(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]);
+    s.w_W[k] += Vec3(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]);
+    s.p_W[k] += dt * s.v_W[k];
+    s.R_WS[k] = expSO3(dt * s.w_W[k]) * s.R_WS[k];
+    orthonormalize(s.R_WS[k]);
+  }
+
+  // The handle: what the operator applies to keep the outside part on its commanded
+  // path balances what the last joint applies to it.
+  const JointTerms t = jointTerms(m, s, inside - 1, in);
+  const Vec3 f_on_base = t.f_proximal.head<3>();
+  const Vec3 tau_on_base = t.f_proximal.tail<3>();
+  s.handle.force_W = f_on_base;
+  s.handle.force_N = -f_on_base.dot(e);
+  s.handle.torque_Nm = -tau_on_base.dot(e);
+}
+
+double scopeKineticEnergy(const ScopeModel& m, const ScopeState& s) {
+  double e = 0;
+  for (int k = 0; k < s.inside; ++k) {
+    const Vec3 w_S = s.R_WS[k].transpose() * s.w_W[k];
+    e += 0.5 * m.segment_mass_kg * s.v_W[k].squaredNorm() +
+         0.5 * w_S.dot(m.segment_inertia_kgm2.cwiseProduct(w_S));
+  }
+  return e;
+}
+
+std::vector<double> getScopeState(const ScopeState& s) {
+  std::vector<double> out;
+  const size_t K = s.p_W.size();
+  out.reserve(8 + K * 18);
+  out.push_back(s.time_s);
+  out.push_back(s.inside);
+  out.push_back(s.input.insertion_m);
+  out.push_back(s.input.rotation_rad);
+  out.push_back(s.input.knob_updown_rad);
+  out.push_back(s.input.knob_leftright_rad);
+  for (size_t k = 0; k < K; ++k) {
+    out.insert(out.end(), s.p_W[k].data(), s.p_W[k].data() + 3);
+    out.insert(out.end(), s.R_WS[k].data(), s.R_WS[k].data() + 9);
+    out.insert(out.end(), s.v_W[k].data(), s.v_W[k].data() + 3);
+    out.insert(out.end(), s.w_W[k].data(), s.w_W[k].data() + 3);
+  }
+  return out;
+}
+
+void setScopeState(const std::vector<double>& snap, ScopeState& s) {
+  const size_t K = s.p_W.size();
+  if (snap.size() != 6 + K * 18)
+    throw std::invalid_argument("scope state snapshot has " + std::to_string(snap.size()) +
+                                " values, expected " + std::to_string(6 + K * 18));
+  size_t i = 0;
+  s.time_s = snap[i++];
+  s.inside = static_cast<int>(snap[i++]);
+  s.input.insertion_m = snap[i++];
+  s.input.rotation_rad = snap[i++];
+  s.input.knob_updown_rad = snap[i++];
+  s.input.knob_leftright_rad = snap[i++];
+  for (size_t k = 0; k < K; ++k) {
+    std::memcpy(s.p_W[k].data(), &snap[i], 3 * sizeof(double)); i += 3;
+    std::memcpy(s.R_WS[k].data(), &snap[i], 9 * sizeof(double)); i += 9;
+    std::memcpy(s.v_W[k].data(), &snap[i], 3 * sizeof(double)); i += 3;
+    std::memcpy(s.w_W[k].data(), &snap[i], 3 * sizeof(double)); i += 3;
+  }
+}
+
+}  // namespace colosim

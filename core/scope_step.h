@@ -1,0 +1,28 @@
+// One time step of the colonoscope: linearised backward Euler on the segment chain.
+//
+// Unknowns: the velocity and angular velocity of every simulated segment (6 each). Forces:
+// gravity, drag, the joints (a stiff penalty keeping consecutive segments joined, and
+// bending/torsion springs on the relative rotation Omega = log(R_{k+1}^T R_k) against
+// the rest rotation set by the knobs in the steerable tip), and the loads (contacts).
+// The system (M + dt C + dt^2 K) du = dt (f - dt K u) is banded (a joint couples two
+// consecutive segments) and solved by band Cholesky; stiffness uses the Gauss-Newton
+// part of each term, which keeps the matrix positive definite. Stable at dt = 1 ms
+// although the fastest bending mode of 1 cm segments is ~1.4e4 rad/s (docs/numerics.md).
+#pragma once
+
+#include "core/scope_state.h"
+
+namespace colosim {
+
+/// Advances the scope by dt_s with the handle inputs `in` (clamped): updates the
+/// kinematic part outside the patient, adds or removes simulated segments at the anus,
+/// integrates the inside part with state.loads, and computes state.handle. Allocates nothing.
+void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s);
+
+/// Rest relative rotation of joint k (between segment k and k+1) for the knob angles [rad].
+Vec3 restJointRotation(const ScopeModel& model, int joint, const HandleInput& in);
+
+/// Kinetic energy and elastic energy of the joints [J] (for tests).
+double scopeKineticEnergy(const ScopeModel& model, const ScopeState& state);
+
+}  // namespace colosim

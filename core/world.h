@@ -1,0 +1,68 @@
+// The whole physical world of a colonoscopy: colon, colonoscope and their contacts, and the
+// step pipeline that advances them together. Contact queries come through the abstract
+// ContactQuery (implemented with FCL in collision/), so core stays free of FCL.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/colon_model.h"
+#include "core/colon_state.h"
+#include "core/contact.h"
+#include "core/handle_input.h"
+#include "core/scope_model.h"
+#include "core/scope_state.h"
+
+namespace colosim {
+
+struct WorldModel {
+  ColonModel colon;
+  ScopeModel scope;
+  ContactParams contact;
+};
+
+/// The scope enters at the colon's first control point (the anus), along the spline's
+/// tangent there; d2 ("up") faces anterior (+y) at zero handle rotation.
+WorldModel makeWorldModel(ColonModel colon, const ScopeParams& scope, const ContactParams& contact);
+
+struct WorldState {
+  ColonState colon;
+  ScopeState scope;
+  std::vector<WallContact> wall;   ///< wall contacts found at the start of the last step
+  std::vector<SelfContact> self;   ///< colon self-contacts found at the start of the last step
+  std::vector<WallTrack> track;    ///< per interaction point (segment-major): last spline location
+  double max_wall_force_N = 0;     ///< largest interaction-point force in the last step [N]
+};
+
+WorldState makeWorldState(const WorldModel& model);
+
+/// Finds the contacts of the current state.
+class ContactQuery {
+ public:
+  virtual ~ContactQuery() = default;
+  /// Fills state.wall with the interaction points outside the lumen and updates state.track.
+  virtual void findWallContacts(const WorldModel& model, WorldState& state) = 0;
+  /// Fills state.self with the intersecting, non-neighbouring colon sphere pairs.
+  virtual void findSelfContacts(const WorldModel& model, WorldState& state) = 0;
+};
+
+/// One step of the world, dt_s [s]: contacts (query), contact forces, colon step, scope step.
+void stepWorld(const WorldModel& model, WorldState& state, const HandleInput& input, ContactQuery& query,
+               double dt_s);
+
+/// The interaction point i of scope segment k in the world [m].
+inline Vec3 interactionPoint(const ScopeModel& m, const ScopeState& s, int k, int i) {
+  return s.p_W[k] + s.R_WS[k] * m.interaction_points_S[i];
+}
+
+/// Places the scope along the colon's current centreline from the anus to depth
+/// insertion_m (clamped to the colon's length), at rest, with the given handle rotation:
+/// a start state "inserted to depth L" without simulating the insertion. Tracks are reset.
+void threadScopeAlongColon(const WorldModel& model, WorldState& state, double insertion_m,
+                           double rotation_rad = 0.0);
+
+/// 64-bit hash of the whole physical state (colon, scope, contact tracks).
+uint64_t hashWorldState(const WorldState& state);
+
+}  // namespace colosim

@@ -1,0 +1,332 @@
+#include "collision/contact_query.h"
+
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/colon_step.h"
+#include "core/rotation.h"
+#include "core/scope_step.h"
+#include "fixture.h"
+#include "trainer/assets.h"
+
+namespace colosim {
+namespace {
+
+constexpr double kDt = 1e-3;
+
+WorldModel adultWorld() {
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  return loadWorldModel(test::asset("anatomy/adult.json"), p);
+}
+
+// A world around a colon given by its control points (uniform radius and mesentery).
+WorldModel worldFromPoints(const Points& q, double radius, double k, double c, const Vec3& g,
+                           double mu = 0.1) {
+  ColonModel colon = buildColonModelFromPoints(q, Eigen::VectorXd::Constant(q.cols(), radius), 0.4, k, c, g,
+                                               std::make_shared<VoigtLaw>(28.9, 0.05));
+  ScopeParams sp;
+  ContactParams cp;
+  cp.friction_coefficient = mu;
+  return makeWorldModel(std::move(colon), sp, cp);
+}
+
+// Random scope poses in the adult colon: threaded to a random depth, then every segment
+// displaced sideways and turned, so that some interaction points lie outside the lumen.
+void randomPose(const WorldModel& m, WorldState& s, std::mt19937& rng) {
+  std::uniform_real_distribution<double> depth(0.2, 1.5), u(-1, 1);
+  threadScopeAlongColon(m, s, depth(rng), 3 * u(rng));
+  for (int k = 0; k < s.scope.inside; ++k) {
+    s.scope.p_W[k] += 0.012 * Vec3(u(rng), u(rng), u(rng));
+    s.scope.R_WS[k] = expSO3(0.3 * Vec3(u(rng), u(rng), u(rng))) * s.scope.R_WS[k];
+  }
+}
+
+// Whether the nearest wall location of x is unambiguous: no part of the colon far in
+// arclength (another part of a loop) comes within `gap` of the nearest distance.
+bool unambiguous(const WorldModel& m, const WorldState& s, const Vec3& x, double gap) {
+  const ClosestPoint best = closestPointOnSpline(s.colon.q, x);
+  const double s_best = m.colon.arclengthAt(best.segment, best.p);
+  for (int j = 0; j + 1 < m.colon.n; ++j) {
+    const ClosestPoint c = closestPointOnSegment(s.colon.q, j, x);
+    const double ds = std::abs(m.colon.arclengthAt(j, c.p) - s_best);
+    if (ds > 0.1 && c.distance < best.distance + gap) return false;
+  }
+  return true;
+}
+
+TEST(ContactQuery, FclAndThePapersScanAgreeWhereTheNearestWallIsUnambiguous) {
+  const WorldModel m = adultWorld();
+  std::mt19937 rng(21);
+  FclContactQuery fcl(m);
+  ScanContactQuery scan(m);
+  int compared = 0, poses = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    WorldState s = makeWorldState(m);
+    randomPose(m, s, rng);
+    WorldState a = s, b = s;
+    // Twice with FCL: once untracked, once with the tracks of the first query.
+    for (int round = 0; round < 2; ++round) {
+      fcl.findWallContacts(m, a);
+      scan.findWallContacts(m, b);
+      std::map<std::pair<int, int>, WallContact> by_point;
+      for (const WallContact& c : b.wall) by_point[{c.scope_segment, c.point}] = c;
+      std::map<std::pair<int, int>, WallContact> fcl_points;
+      for (const WallContact& c : a.wall) fcl_points[{c.scope_segment, c.point}] = c;
+      for (int k = 0; k < s.scope.inside; ++k) {
+        for (int i = 0; i < static_cast<int>(m.scope.interaction_points_S.size()); ++i) {
+          const Vec3 x = interactionPoint(m.scope, s.scope, k, i);
+          if (!unambiguous(m, s, x, 0.002)) continue;
+          const auto f = fcl_points.find({k, i}), g = by_point.find({k, i});
+          ASSERT_EQ(f != fcl_points.end(), g != by_point.end()) << "segment " << k << " point " << i;
+          if (f == fcl_points.end()) continue;
+          ++compared;
+          EXPECT_NEAR(f->second.depth_m, g->second.depth_m, 1e-12);
+          EXPECT_LT((f->second.normal_W - g->second.normal_W).norm(), 1e-9);
+          EXPECT_NEAR(m.colon.arclengthAt(f->second.colon_segment, f->second.p),
+                      m.colon.arclengthAt(g->second.colon_segment, g->second.p), 1e-9);
+        }
+      }
+    }
+    // The forces of both contact sets agree too.
+    std::vector<SplineLoad> ca, cb;
+    std::vector<ScopeLoad> sa, sb;
+    applyWallContacts(m.contact, m.colon, a.colon, m.scope, a.scope, a.wall, ca, sa);
+    applyWallContacts(m.contact, m.colon, b.colon, m.scope, b.scope, b.wall, cb, sb);
+    Vec3 fa = Vec3::Zero(), fb = Vec3::Zero();
+    for (const ScopeLoad& l : sa) fa += l.force_N;
+    for (const ScopeLoad& l : sb) fb += l.force_N;
+    if (a.wall.size() == b.wall.size()) {
+      EXPECT_LT((fa - fb).norm(), 1e-9 * (1 + fa.norm()));
+      ++poses;
+    }
+  }
+  EXPECT_GT(compared, 200);  // the poses really touched the wall
+  EXPECT_GT(poses, 6);
+}
+
+// A hairpin colon: part A along +x at y = 0, a U-turn, part B back along -x at
+// y = 2 r - 4 mm (the two walls pressed together, as in a sigmoid loop).
+Points hairpin(double r) {
+  std::vector<Vec3> pts;
+  const double sep = 2 * r - 0.004, turn = 0.5 * sep;
+  for (double x = 0; x <= 0.20 + 1e-9; x += 0.015) pts.emplace_back(x, 0, 0);
+  for (int i = 1; i < 8; ++i) {
+    const double a = M_PI * i / 8;
+    pts.emplace_back(0.20 + turn * std::sin(a), turn * (1 - std::cos(a)), 0);
+  }
+  for (double x = 0.20; x >= -0.0001; x -= 0.015) pts.emplace_back(x, sep, 0);
+  Points q(3, static_cast<int>(pts.size()));
+  for (size_t i = 0; i < pts.size(); ++i) q.col(static_cast<int>(i)) = pts[i];
+  return q;
+}
+
+TEST(ContactQuery, RobustQueryStaysOnTheTrackedPartOfALoop) {
+  const double r = 0.017;
+  const WorldModel m = worldFromPoints(hairpin(r), r, 1000, 20, Vec3::Zero());
+  WorldState s = makeWorldState(m);
+  // One segment inside part A at x = 0.1 m, pressed towards part B: its top interaction
+  // point is 2 mm beyond A's wall, hence 2 mm inside B's lumen.
+  threadScopeAlongColon(m, s, 0.12);
+  const int k = 0;
+  const double h = m.scope.h_m;
+  s.scope.R_WS[k].col(0) = Vec3(0, 1, 0);
+  s.scope.R_WS[k].col(1) = Vec3(0, 0, 1);
+  s.scope.R_WS[k].col(2) = Vec3(1, 0, 0);
+  const Vec3 top_S = m.scope.interaction_points_S[0];  // (r_scope, 0, h/2): along d1 = +y
+  s.scope.p_W[k] = Vec3(0.1, r + 0.002 - top_S.x(), 0) - s.scope.R_WS[k] * Vec3(0, 0, top_S.z());
+  (void)h;
+  const Vec3 x = interactionPoint(m.scope, s.scope, k, 0);
+  ASSERT_NEAR(x.y(), r + 0.002, 1e-12);
+
+  // The paper's scan snaps to part B (the nearer centreline) and sees no contact.
+  WorldState scan_state = s;
+  ScanContactQuery scan(m);
+  scan.findWallContacts(m, scan_state);
+  const WallTrack snapped = scan_state.track[0];
+  EXPECT_GT(m.colon.arclengthAt(snapped.colon_segment, snapped.p), 0.25);  // part B
+  for (const WallContact& c : scan_state.wall) EXPECT_FALSE(c.scope_segment == k && c.point == 0);
+
+  // The robust query, tracked in part A, keeps the point in A and pushes it back.
+  FclContactQuery fcl(m);
+  const int P = static_cast<int>(m.scope.interaction_points_S.size());
+  for (int i = 0; i < P; ++i) s.track[k * P + i] = {6, 0.5};  // part A, near x = 0.1 m
+  fcl.findWallContacts(m, s);
+  bool found = false;
+  for (const WallContact& c : s.wall) {
+    if (c.scope_segment != k || c.point != 0) continue;
+    found = true;
+    EXPECT_LT(m.colon.arclengthAt(c.colon_segment, c.p), 0.2);  // part A
+    EXPECT_NEAR(c.depth_m, 0.002, 1e-6);
+    EXPECT_GT(c.normal_W.y(), 0.99);
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(ContactForces, ActionEqualsReaction) {
+  const WorldModel m = adultWorld();
+  std::mt19937 rng(5);
+  WorldState s = makeWorldState(m);
+  randomPose(m, s, rng);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (int k = 0; k < s.scope.inside; ++k) s.scope.v_W[k] = Vec3(u(rng), u(rng), u(rng));
+  for (int i = 0; i < m.colon.n; ++i) s.colon.v.col(i) = Vec3(u(rng), u(rng), u(rng));
+  FclContactQuery q(m);
+  q.findWallContacts(m, s);
+  ASSERT_GT(s.wall.size(), 10u);
+  std::vector<SplineLoad> colon_loads;
+  std::vector<ScopeLoad> scope_loads;
+  applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall, colon_loads, scope_loads);
+  Vec3 total = Vec3::Zero(), scope_total = Vec3::Zero();
+  for (const ScopeLoad& l : scope_loads) total += l.force_N, scope_total += l.force_N;
+  // The colon side as the control points receive it, through the blending functions.
+  for (const SplineLoad& l : colon_loads) {
+    const Blend b = blend(m.colon.n, l.segment, l.p, 0);
+    for (int a = 0; a < 4; ++a) total += b.w[a] * l.force_N;
+  }
+  EXPECT_GT(scope_total.norm(), 0.1);
+  EXPECT_LT(total.norm(), 1e-12 * scope_total.norm() + 1e-14);
+}
+
+TEST(ContactQuery, NeighbourSpheresNeverRepel) {
+  const WorldModel m = adultWorld();
+  WorldState s = makeWorldState(m);
+  FclContactQuery fcl(m);
+  ScanContactQuery scan(m);
+  fcl.findSelfContacts(m, s);
+  EXPECT_TRUE(s.self.empty());  // the rest shape has overlapping neighbours only
+  scan.findSelfContacts(m, s);
+  EXPECT_TRUE(s.self.empty());
+  // Neighbours overlap heavily (1.5 cm spacing, ~2 cm radius) but are excluded.
+  EXPECT_LT((m.colon.q_rest.col(1) - m.colon.q_rest.col(0)).norm(), m.colon.radius_m(0) + m.colon.radius_m(1));
+  EXPECT_TRUE(selfNeighbours(m.contact, m.colon, 0, 1));
+  EXPECT_TRUE(selfNeighbours(m.contact, m.colon, 10, 13));
+  EXPECT_FALSE(selfNeighbours(m.contact, m.colon, 10, 20));
+}
+
+TEST(SelfCollision, CrossingPartsOfALoopSeparate) {
+  // Two straight parts joined by a long free arc, starting interpenetrated by 1 cm.
+  const double r = 0.017;
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 12; ++i) pts.emplace_back(0.015 * i, 0, 0);
+  for (int i = 1; i < 20; ++i) {
+    const double a = M_PI * i / 20;
+    pts.emplace_back(0.165 + 0.1 * std::sin(a), 0.1 * (1 - std::cos(a)), 0.0);
+  }
+  for (int i = 0; i < 12; ++i) pts.emplace_back(0.165 - 0.015 * i, 0.2 - 0.1 - 0.1 + 2 * r - 0.01, 0.0);
+  Points q(3, static_cast<int>(pts.size()));
+  for (size_t i = 0; i < pts.size(); ++i) q.col(static_cast<int>(i)) = pts[i];
+  // Part B lies over part A: move it down onto A (overlapping by 1 cm) as the rest shape
+  // would not overlap; no mesentery holds either part.
+  const WorldModel m = worldFromPoints(q, r, 0.0, 0.5, Vec3::Zero());
+  WorldState s = makeWorldState(m);
+  FclContactQuery query(m);
+  query.findSelfContacts(m, s);
+  ASSERT_FALSE(s.self.empty());
+  double min_gap0 = 1e9;
+  for (const SelfContact& c : s.self) min_gap0 = std::min(min_gap0, -c.depth_m);
+  HandleInput none;
+  for (int k = 0; k < 3000; ++k) stepWorld(m, s, none, query, kDt);
+  query.findSelfContacts(m, s);
+  double max_depth = 0;
+  for (const SelfContact& c : s.self) max_depth = std::max(max_depth, c.depth_m);
+  EXPECT_LT(max_depth, 0.002);  // from 10 mm of overlap to under 2 mm
+  EXPECT_LT(min_gap0, -0.008);
+  EXPECT_TRUE(s.colon.q.allFinite());
+}
+
+// An L-shaped colon (straight, a 90-degree bend of radius 5 cm, straight), held firmly.
+Points lShape() {
+  std::vector<Vec3> pts;
+  for (double x = 0; x < 0.30; x += 0.015) pts.emplace_back(x, 0, 0);
+  for (int i = 0; i <= 6; ++i) {
+    const double a = 0.5 * M_PI * i / 6;
+    pts.emplace_back(0.30 + 0.05 * std::sin(a), 0.05 * (1 - std::cos(a)), 0);
+  }
+  for (double y = 0.065; y < 0.40; y += 0.015) pts.emplace_back(0.35, y, 0);
+  Points q(3, static_cast<int>(pts.size()));
+  for (size_t i = 0; i < pts.size(); ++i) q.col(static_cast<int>(i)) = pts[i];
+  return q;
+}
+
+TEST(ScopeInColon, PushedIntoABendStaysInsideTheWall) {
+  const double r = 0.017;
+  const WorldModel m = worldFromPoints(lShape(), r, 2000, 40, Vec3::Zero());
+  WorldState s = makeWorldState(m);
+  FclContactQuery q(m);
+  HandleInput in;
+  double max_depth = 0;
+  for (int k = 0; k < 5500; ++k) {  // 10 cm/s for 0.55 m: through the bend
+    in.insertion_m = 0.1 * k * kDt;
+    stepWorld(m, s, in, q, kDt);
+    for (const WallContact& c : s.wall) max_depth = std::max(max_depth, c.depth_m);
+    for (int j = 0; j < s.scope.inside; ++j) ASSERT_TRUE(s.scope.p_W[j].allFinite());
+    ASSERT_TRUE(s.colon.q.allFinite());
+  }
+  EXPECT_LT(max_depth, 0.006);  // stated tolerance: 6 mm beyond the wall at 10 cm/s
+  // The tip went round the bend.
+  EXPECT_GT(tipPosition(m.scope, s.scope).y(), 0.15);
+}
+
+TEST(ScopeInColon, PullingAlongAWallTakesMuTimesTheNormalLoad) {
+  // A straight horizontal colon, held firmly; the scope lies on its floor under its own
+  // weight N = rho_s L g and is withdrawn at 3 cm/s: the handle pulls with mu N.
+  const double r = 0.017;
+  Points q(3, 60);
+  for (int i = 0; i < 60; ++i) q.col(i) = Vec3(0.015 * i, 0, 0);
+  const Vec3 g(0, 0, -9.81);
+  for (double mu : {0.1, 0.3}) {
+    ColonModel colon = buildColonModelFromPoints(q, Eigen::VectorXd::Constant(60, r), 0.4, 1e5, 500, Vec3::Zero(),
+                                                 std::make_shared<VoigtLaw>(28.9, 0.05));
+    ScopeParams sp;
+    sp.drag_Ns_per_m2 = 0;
+    ContactParams cp;
+    cp.friction_coefficient = mu;
+    WorldModel m = makeWorldModel(std::move(colon), sp, cp);
+    m.scope.gravity_m_per_s2 = g;
+    WorldState s = makeWorldState(m);
+    FclContactQuery query(m);
+    HandleInput in;
+    for (int k = 0; k < 3000; ++k) {  // insert 0.6 m and let it settle on the floor
+      in.insertion_m = std::min(0.6, 0.3 * k * kDt);
+      stepWorld(m, s, in, query, kDt);
+    }
+    // The normal load is what the contacts carry (near the anus part of the weight hangs
+    // from the fixed entry point instead of resting on the floor).
+    double pull_sum = 0, normal_sum = 0;
+    int samples = 0;
+    for (int k = 0; k < 3000; ++k) {  // withdraw at 3 cm/s
+      in.insertion_m -= 0.03 * kDt;
+      stepWorld(m, s, in, query, kDt);
+      if (k > 500) {
+        pull_sum += -s.scope.handle.force_N;
+        for (const WallContact& c : s.wall) normal_sum += c.normal_force_N;
+        ++samples;
+      }
+    }
+    const double expected = mu * normal_sum / samples;
+    EXPECT_GT(normal_sum / samples, 0.3 * 0.5 * 0.2 * 9.81);  // most of the weight rests on the floor
+    EXPECT_NEAR(pull_sum / samples, expected, 0.05 * expected) << "mu = " << mu;
+  }
+}
+
+TEST(World, SameInputsGiveBitIdenticalStates) {
+  const WorldModel m = adultWorld();
+  auto run = [&] {
+    WorldState s = makeWorldState(m);
+    FclContactQuery q(m);
+    HandleInput in;
+    for (int k = 0; k < 3000; ++k) {
+      in.insertion_m = 0.1 * k * kDt;
+      in.rotation_rad = 0.5 * std::sin(k * 2e-3);
+      in.knob_updown_rad = 0.3;
+      stepWorld(m, s, in, q, kDt);
+    }
+    return hashWorldState(s);
+  };
+  EXPECT_EQ(run(), run());
+}
+
+}  // namespace
+}  // namespace colosim
