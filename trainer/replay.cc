@@ -35,11 +35,11 @@ void stepOnce(Simulation& sim, const HandleInput& in, long step, Scorer& scorer,
   const long done = step + 1;
   const Telemetry t = sim.telemetry();
   scorer.add(t);
-  if (hooks.on_step) hooks.on_step(t);
   if (writer) {
     for (const std::string& e : sim.events()) writer->event(done, e);
     if (writer->checkpointDue(done)) writer->checkpoint(done, sim.stateHash());
   }
+  if (hooks.on_step) hooks.on_step(t);
   if (hooks.on_frame && hooks.frame_every_steps > 0 && done % hooks.frame_every_steps == 0) hooks.on_frame(sim, done);
   if (hooks.on_progress && done % 1000 == 0) hooks.on_progress(done);
 }

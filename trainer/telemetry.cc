@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
+
 namespace colosim {
 
 double netTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal) {
