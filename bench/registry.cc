@@ -5,6 +5,7 @@ namespace colosim {
 const std::vector<BenchEntry>& benchmarks() {
   static const std::vector<BenchEntry> list = {
       {"colon", "colon step at 50, 100, 200, 400 control points (us per step)", benchColon},
+      {"untwist", "sigmoid_untwist headless: real-time factor, also recording and replaying", benchUntwist},
   };
   return list;
 }

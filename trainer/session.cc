@@ -59,20 +59,21 @@ SessionHeader readHeader(JsonObject& o) {
 
 }  // namespace
 
-Session parseSession(const std::string& text, const std::string& file) {
+namespace {
+
+// Reads line by line (an hour at 1 kHz is hundreds of MB: never the whole text at once).
+Session parseSessionStream(std::istream& in, const std::string& file) {
   Session s;
   s.file = file;
-  if (text.empty()) throw InputError(file + ": empty file: not a session (no header line)");
+  if (in.peek() == std::char_traits<char>::eof()) throw InputError(file + ": empty file: not a session (no header line)");
 
   bool have_header = false;
   long last_step = 0;        // largest step of any record so far
   int last_complete_line = 0;
-  size_t pos = 0;
-  for (int line = 1; pos < text.size(); ++line) {
-    const size_t nl = text.find('\n', pos);
-    const bool has_newline = nl != std::string::npos;
-    const std::string content = text.substr(pos, has_newline ? nl - pos : std::string::npos);
-    pos = has_newline ? nl + 1 : text.size();
+  std::string content;
+  for (int line = 1; std::getline(in, content); ++line) {
+    // getline stops at end of file without a newline only on the last, cut-off line.
+    const bool has_newline = !in.eof();
     const std::string where = file + ":" + std::to_string(line);
 
     if (s.complete) throw InputError(where + ": content after the end line");
@@ -161,12 +162,17 @@ Session parseSession(const std::string& text, const std::string& file) {
   return s;
 }
 
+}  // namespace
+
+Session parseSession(const std::string& text, const std::string& file) {
+  std::istringstream in(text);
+  return parseSessionStream(in, file);
+}
+
 Session readSession(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return parseSession(buf.str(), path);
+  return parseSessionStream(in, path);
 }
 
 // ---------------------------------------------------------------------------------------
