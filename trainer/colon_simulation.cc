@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/colon_step.h"
 #include "trainer/assets.h"
@@ -12,18 +13,19 @@ namespace colosim {
 Simulation::~Simulation() = default;
 
 double mesenteryStretch(const ColonModel& model, const ColonState& state) {
-  const double weight_N_per_m = model.mass_per_length_kg_per_m * model.gravity_m_per_s2.norm();
-  if (!(weight_N_per_m > 0)) return 0.0;
-  double largest = 0.0;
-  for (int i = 0; i < model.n; ++i) {
-    // Mesentery density around point i: mean of the segments it bounds.
-    double k = 0.0;
-    int count = 0;
-    if (i > 0) { k += model.segment_k_N_per_m2(i - 1); ++count; }
-    if (i < model.n - 1) { k += model.segment_k_N_per_m2(i); ++count; }
-    k /= std::max(count, 1);
-    largest = std::max(largest, k * (state.q.col(i) - model.q_rest.col(i)).norm() / weight_N_per_m);
+  const double g_m_per_s2 = model.gravity_m_per_s2.norm();
+  if (!(g_m_per_s2 > 0)) return 0.0;
+  // Lifter forces at the control points: F = K (q - q0), one coordinate at a time.
+  std::vector<double> d(model.n), f(model.n);
+  Eigen::Matrix3Xd force(3, model.n);
+  for (int c = 0; c < 3; ++c) {
+    for (int i = 0; i < model.n; ++i) d[i] = state.q(c, i) - model.q_rest(c, i);
+    model.mesentery_K.multiply(d.data(), f.data());
+    for (int i = 0; i < model.n; ++i) force(c, i) = f[i];
   }
+  double largest = 0.0;
+  for (int i = 0; i < model.n; ++i)
+    largest = std::max(largest, force.col(i).norm() / (model.mass_rowsum_kg(i) * g_m_per_s2));
   return largest;
 }
 

@@ -12,10 +12,11 @@
 
 namespace colosim {
 
-/// Mesentery stretch of a colon state [-]: the largest over control points of the
-/// lifter force per unit length |k_i (q_i - q0_i)| divided by the weight per unit length
-/// rho g, with k_i the mesentery stiffness density around point i [N/m per m] (the mean
-/// of its segments'). See Telemetry::mesentery_stretch. 0 without gravity.
+/// Mesentery stretch of a colon state [-]: the largest over control points of the lifter
+/// force on the point, |(K (q - q0))_i| with K the mesentery stiffness matrix (eq. 4),
+/// over the weight the point carries, (M 1)_i g. It is the lifter force per unit length
+/// over the colon's weight per unit length: about 1 where the attachments just carry the
+/// hanging colon (Telemetry::mesentery_stretch). 0 without gravity.
 double mesenteryStretch(const ColonModel& model, const ColonState& state);
 
 class ColonOnlySimulation : public Simulation {

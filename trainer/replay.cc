@@ -92,6 +92,7 @@ ReplayResult replay(const ReplayPlan& plan, Simulation& sim, const RunHooks& hoo
   const Session& s = plan.session;
   ReplayResult r;
   r.file = s.file;
+  r.scenario = s.header.scenario;
   r.complete = s.complete;
   r.truncated = s.truncated;
   r.message = s.message;

@@ -55,6 +55,7 @@ ReplayPlan planReplay(const std::string& session_path);
 
 struct ReplayResult {
   std::string file;
+  std::string scenario;           ///< the scenario id of the session's header
   long steps = 0;                 ///< steps re-simulated
   uint64_t final_state_hash = 0;  ///< after them
   bool complete = false;          ///< the session had its end line

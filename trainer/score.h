@@ -25,8 +25,9 @@ struct ScoreOptions {
   /// Excessive pressure counts as an episode when it lasts longer than this [s].
   double episode_min_s = 0.5;
   /// Discomfort when the mesentery stretch (Telemetry::mesentery_stretch) exceeds this
-  /// [-]: the attachments carry three times the colon's weight.
-  double discomfort_stretch = 3.0;
+  /// [-] (tuning: the adult colon hanging at rest reaches 3.2 at the hepatic flexure,
+  /// whose attachments carry the transverse colon; 5 keeps rest out of discomfort).
+  double discomfort_stretch = 5.0;
   /// A loop is present when |loop_turns| is at least this [turns].
   double loop_turns = 0.5;
   /// A wall patch counts as visualised once seen for this long in total [s].

@@ -18,10 +18,12 @@ struct Telemetry {
   double wall_force_peak_N = 0.0; ///< largest single scope-wall contact force this step [N]
   Vec3 tip_position_m = Vec3::Zero();  ///< scope tip in the patient frame [m]
   double tip_to_caecum_m = 1e9;   ///< distance from the tip to the caecal pole [m]
-  /// Mesentery stretch, the discomfort source [-]: the largest, over the colon, of the
-  /// mesentery lifter force per unit length divided by the colon's weight per unit
-  /// length (|k (q - q0)| / (rho g)). About 1 where the attachments just carry the hanging
-  /// colon; several times that where the scope stretches them.
+  /// Mesentery stretch, the discomfort source [-]: the largest, over the colon's control
+  /// points, of the mesentery lifter force on the point over the weight the point carries
+  /// (lifter force per unit length over weight per unit length; mesenteryStretch in
+  /// trainer/colon_simulation.h). About 1 where the attachments just carry the hanging
+  /// colon (up to ~3 at the flexures, which also carry the free segments); more where the
+  /// scope stretches them.
   double mesentery_stretch = 0.0;
   /// Loop measure [turns]: net turning of the scope inside the sigmoid, projected on the
   /// coronal plane (netTurns in trainer/telemetry.h); ~1 for an alpha loop.

@@ -1,5 +1,6 @@
 // colosim score SESSION... [--json] [--threads N]: replays sessions headless and scores
 // them, on every core when given many; results in the order given.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -13,7 +14,7 @@ namespace colosim::app {
 
 namespace {
 
-struct ScoreOptions {
+struct ScoreCommandOptions {
   std::vector<std::string> sessions;
   bool json = false;
   unsigned threads = 0;
@@ -21,10 +22,10 @@ struct ScoreOptions {
 
 // One session's line in the output: where it came from, how faithful the replay was,
 // then the scores.
-nlohmann::json sessionJson(const ReplayResult& r, const std::string& scenario) {
+nlohmann::json sessionJson(const ReplayResult& r) {
   nlohmann::json j;
   j["session"] = r.file;
-  j["scenario"] = scenario;
+  j["scenario"] = r.scenario;
   j["steps"] = r.steps;
   j["complete"] = r.complete;
   j["truncated"] = r.truncated;
@@ -41,18 +42,13 @@ std::string num(const nlohmann::json& v, const char* fmt) {
   return buf;
 }
 
-int runScore(const ScoreOptions& o) {
-  // Reading every session first means a bad one stops the batch before any work.
-  std::vector<std::string> scenarios;
-  for (const std::string& s : o.sessions) scenarios.push_back(readSession(s).header.scenario);
-  ProgressBar bar("score", 1, stderrIsTerminal());
-  long total_steps = 1;
-  const std::vector<ReplayResult> results = replaySessions(o.sessions, simulationFactory(), o.threads,
-                                                           [&](long done, long total) {
-                                                             total_steps = total;
-                                                             bar.update(done * 1000 / std::max(total, 1L));
-                                                           });
-  (void)total_steps;
+int runScore(const ScoreCommandOptions& o) {
+  // replaySessions reads every session first: a bad one stops the batch before any work.
+  constexpr long kBarUnits = 1000;
+  ProgressBar bar("score", kBarUnits, stderrIsTerminal());
+  const std::vector<ReplayResult> results =
+      replaySessions(o.sessions, simulationFactory(), o.threads,
+                     [&](long done, long total) { bar.update(done * kBarUnits / std::max(total, 1L)); });
   bar.finish();
   nlohmann::json all = nlohmann::json::array();
   for (size_t i = 0; i < results.size(); ++i) {
@@ -60,7 +56,7 @@ int runScore(const ScoreOptions& o) {
     for (const std::string& w : r.warnings) std::cerr << "colosim: warning: " << w << "\n";
     if (r.truncated) std::cerr << "colosim: warning: " << r.message << "\n";
     if (!r.hashOk()) std::cerr << "colosim: warning: replay differs from the recording: " << r.mismatch << "\n";
-    all.push_back(sessionJson(r, scenarios[i]));
+    all.push_back(sessionJson(r));
   }
   if (o.json) {
     std::cout << all.dump(2) << "\n";
@@ -87,7 +83,7 @@ int runScore(const ScoreOptions& o) {
 }  // namespace
 
 void addScoreCommand(CLI::App& app, Action& action) {
-  auto o = std::make_shared<ScoreOptions>();
+  auto o = std::make_shared<ScoreCommandOptions>();
   CLI::App* cmd = app.add_subcommand("score", "Replay recorded sessions headless and score them (every core when given many)");
   cmd->add_option("SESSION", o->sessions, "session files (.jsonl)")->required();
   cmd->add_flag("--json", o->json, "print a JSON array, one object per session in the order given");
