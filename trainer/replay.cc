@@ -136,6 +136,9 @@ std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session
   for (const std::string& p : session_paths) {
     plans.push_back(planReplay(p));
     total_steps += plans.back().session.steps;
+    // An hour at 1 kHz holds millions of input records: keep only what the batch needs
+    // and read each session again when its turn comes (memory: one session per thread).
+    plans.back().session = Session{};
   }
   if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
   threads = std::min<unsigned>(threads, std::max<size_t>(1, plans.size()));
@@ -148,7 +151,8 @@ std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session
   auto worker = [&] {
     for (size_t i = next++; i < plans.size(); i = next++) {
       try {
-        std::unique_ptr<Simulation> sim = factory(plans[i].scenario);
+        const ReplayPlan plan = planReplay(session_paths[i]);
+        std::unique_ptr<Simulation> sim = factory(plan.scenario);
         long reported = 0;
         RunHooks hooks;
         hooks.on_progress = [&](long done) {
@@ -159,7 +163,7 @@ std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session
             on_progress(all, total_steps);
           }
         };
-        results[i] = replay(plans[i], *sim, hooks);
+        results[i] = replay(plan, *sim, hooks);
       } catch (...) {
         errors[i] = std::current_exception();
       }

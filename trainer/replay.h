@@ -75,7 +75,9 @@ struct ReplayResult {
 ReplayResult replay(const ReplayPlan& plan, Simulation& sim, const RunHooks& hooks = {});
 
 /// Replays and scores many sessions on `threads` worker threads (0: every core).
-/// Every session and scenario is read first (InputError before any simulation). Results
+/// Every session and scenario is read and checked first (InputError before any
+/// simulation); each worker reads its session again when it starts it, so memory holds
+/// one session per thread. Results
 /// come in the order given and do not depend on the number of threads. `on_progress`
 /// receives (steps done, steps total) over all sessions, from the worker threads.
 std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session_paths,
