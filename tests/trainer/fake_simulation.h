@@ -25,6 +25,13 @@ class FakeSimulation : public Simulation {
              1e-6 * (in.insertion_m + in.rotation_rad + in.knob_updown_rad + in.knob_leftright_rad);
     chaos_ = chaos_ - std::floor(chaos_);
     time_s_ += dt_s_;
+    ++steps_;
+  }
+  /// Raises "solver_limited" once, at step 150, as the real simulation does when its
+  /// solver cannot keep up.
+  std::vector<std::string> events() const override {
+    if (steps_ == 150) return {"solver_limited"};
+    return {};
   }
   double time_s() const override { return time_s_; }
   uint64_t stateHash() const override {
@@ -57,6 +64,7 @@ class FakeSimulation : public Simulation {
  private:
   double dt_s_;
   double x_ = 0, v_ = 0, chaos_, time_s_ = 0;
+  long steps_ = 0;
   HandleInput in_;
 };
 

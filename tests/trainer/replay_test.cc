@@ -48,6 +48,23 @@ TEST(Replay, ColonOnlySimulationReplaysBitIdentically) {
   EXPECT_NE(rest.stateHash(), recorded.final_state_hash);
 }
 
+TEST(Replay, ColonOnlyStartStatesAndOverrides) {
+  test::TempDir dir;
+  const Scenario rest = loadScenario(dir.write("rest.json", test::smallScenarioText()));
+  std::string text = test::smallScenarioText();
+  text.replace(text.find("{\"kind\": \"rest\"}"), 16, "{\"kind\": \"settled\", \"settle_s\": 0.5}");
+  const Scenario settled = loadScenario(dir.write("settled.json", text));
+  text = test::smallScenarioText();
+  text.replace(text.find("\"script\": ["), 11, "\"overrides\": {\"patient_position\": \"supine\"}, \"script\": [");
+  const Scenario supine = loadScenario(dir.write("supine.json", text));
+  EXPECT_EQ(supine.overrides.patient_position.value(), "supine");
+  ColonOnlySimulation a(rest), b(settled), c(supine);
+  EXPECT_EQ(b.time_s(), 0.0);  // the session's clock starts after settling
+  EXPECT_NE(a.stateHash(), b.stateHash());  // but the colon has moved
+  EXPECT_EQ(a.stateHash(), c.stateHash());  // same rest state ...
+  EXPECT_NE(a.model().gravity_m_per_s2, c.model().gravity_m_per_s2);  // ... different gravity
+}
+
 TEST(Replay, TheColonAloneAtRestIsNotScoredAsDiscomfort) {
   // free_insertion starts settled; with no scope nothing stretches the mesentery beyond
   // carrying the colon, so the discomfort threshold must not be reached.

@@ -76,6 +76,10 @@ TEST(Session, RoundTripReconstructsEveryStepsInput) {
     ASSERT_EQ(in.knob_updown_rad, want.knob_updown_rad) << k;
     ASSERT_EQ(in.knob_leftright_rad, want.knob_leftright_rad) << k;
   }
+  // The simulation's event, at the step it happened.
+  ASSERT_EQ(s.events.size(), 1u);
+  EXPECT_EQ(s.events[0].name, "solver_limited");
+  EXPECT_EQ(s.events[0].step, 150);
   // A checkpoint per simulated second.
   ASSERT_EQ(s.checkpoints.size(), 2u);
   EXPECT_EQ(s.checkpoints[0].step, 100);
