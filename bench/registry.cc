@@ -7,6 +7,7 @@ const std::vector<BenchEntry>& benchmarks() {
       {"colon", "colon step at 50, 100, 200, 400 control points (us per step)", benchColon},
       {"contacts", "contact queries, FCL against the paper's scan, and the whole step (scope at the caecum)",
        benchContacts},
+      {"untwist", "sigmoid_untwist headless: real-time factor, also recording and replaying", benchUntwist},
   };
   return list;
 }

@@ -29,5 +29,6 @@ const std::vector<BenchEntry>& benchmarks();
 // One function per benchmark, each in its own file.
 BenchOutput benchColon();
 BenchOutput benchContacts();
+BenchOutput benchUntwist();
 
 }  // namespace colosim

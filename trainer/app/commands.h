@@ -13,5 +13,7 @@ using Action = std::function<int()>;
 
 void addRunCommand(CLI::App& app, Action& action);
 void addBenchCommand(CLI::App& app, Action& action);
+void addScoreCommand(CLI::App& app, Action& action);
+void addReplayCommand(CLI::App& app, Action& action);
 
 }  // namespace colosim::app

@@ -11,6 +11,8 @@ int main(int argc, char** argv) {
   colosim::app::Action action;
   colosim::app::addRunCommand(app, action);
   colosim::app::addBenchCommand(app, action);
+  colosim::app::addScoreCommand(app, action);
+  colosim::app::addReplayCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,129 @@
+// Scenarios: the shipped files load, SCENARIO resolves as a path or a name, inputs
+// interpolate, and bad files are refused naming the file, key and line.
+#include "trainer/scenario.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "fixture.h"
+#include "session_fixture.h"
+#include "trainer/json_position.h"
+#include "trainer/strict_json.h"
+
+namespace colosim {
+namespace {
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos == std::string::npos) return text;
+  return text.replace(pos, from.size(), to);
+}
+
+TEST(Scenario, ShippedScenariosLoadByName) {
+  for (const std::string name : {"sigmoid_untwist", "sigmoid_push", "free_insertion"}) {
+    SCOPED_TRACE(name);
+    const Scenario s = findScenario(name);
+    EXPECT_EQ(s.name, name);
+    EXPECT_EQ(s.id, name);  // sessions name shipped scenarios by name
+    EXPECT_EQ(s.dt_s, 0.001);
+    EXPECT_GE(s.script.size(), 3u);
+    EXPECT_NE(s.file_hash, 0u);
+    EXPECT_EQ(findScenario(name + ".json").file, s.file);
+  }
+  const Scenario u = findScenario("sigmoid_untwist");
+  EXPECT_NEAR(u.duration_s, 28.0, 2.0);  // the paper's benchmark, about 28 s
+  EXPECT_EQ(u.start.kind, "scripted");
+  EXPECT_EQ(u.scoring.start_s, u.start.until_s);
+  // The untwist turns clockwise while withdrawing; the push never turns clockwise.
+  const Scenario p = findScenario("sigmoid_push");
+  double max_rot_u = -1e9, max_rot_p = -1e9;
+  for (const Keyframe& k : u.script) max_rot_u = std::max(max_rot_u, k.input.rotation_rad);
+  for (const Keyframe& k : p.script) max_rot_p = std::max(max_rot_p, k.input.rotation_rad);
+  EXPECT_GT(max_rot_u, 2 * 3.14159);
+  EXPECT_LE(max_rot_p, 0.0);
+  // The same start: identical scripts during the set-up.
+  for (double t = 0; t <= u.start.until_s; t += 0.25) {
+    EXPECT_EQ(scriptedInput(u.script, t).insertion_m, scriptedInput(p.script, t).insertion_m) << t;
+    EXPECT_EQ(scriptedInput(u.script, t).rotation_rad, scriptedInput(p.script, t).rotation_rad) << t;
+  }
+  // free_insertion goes anus to caecum: 1.3-1.5 m of scope.
+  const Scenario f = findScenario("free_insertion");
+  EXPECT_GE(f.script.back().input.insertion_m, 1.3);
+  EXPECT_LE(f.script.back().input.insertion_m, 1.5);
+}
+
+TEST(Scenario, ResolvesPathsAndRefusesUnknownNames) {
+  test::TempDir dir;
+  const std::string path = dir.write("mine.json", test::smallScenarioText("mine"));
+  const Scenario s = findScenario(path);
+  EXPECT_EQ(s.name, "mine");
+  EXPECT_EQ(s.id.front(), '/');  // not shipped: named by its absolute path
+  test::expectInputError([] { findScenario("no_such_scenario"); },
+                         {"no_such_scenario", "sigmoid_untwist", "free_insertion"});
+}
+
+TEST(Scenario, InputsInterpolateLinearlyAndHoldAtTheEnds) {
+  std::vector<Keyframe> script(2);
+  script[0].t_s = 0;
+  script[1].t_s = 2;
+  script[1].input.insertion_m = 1.0;
+  script[1].input.rotation_rad = -4.0;
+  script[1].input.knob_updown_rad = 1.0;
+  script[1].input.knob_leftright_rad = -0.5;
+  const HandleInput mid = scriptedInput(script, 0.5);
+  EXPECT_DOUBLE_EQ(mid.insertion_m, 0.25);
+  EXPECT_DOUBLE_EQ(mid.rotation_rad, -1.0);
+  EXPECT_DOUBLE_EQ(mid.knob_updown_rad, 0.25);
+  EXPECT_DOUBLE_EQ(mid.knob_leftright_rad, -0.125);
+  EXPECT_EQ(scriptedInput(script, 5.0).insertion_m, 1.0);
+  EXPECT_EQ(scriptedInput(script, 0.0).insertion_m, 0.0);
+}
+
+TEST(Scenario, BadFilesNameFileKeyAndLine) {
+  test::TempDir dir;
+  const std::string good = test::smallScenarioText();
+  struct Case {
+    std::string from, to, fragment;
+  };
+  // Line numbers refer to smallScenarioText's layout.
+  const std::vector<Case> cases = {
+      {"\"version\": 1", "\"version\": 3", ":2: version: unsupported version 3"},
+      {"\"dt_s\": 0.01", "\"dt_s\": 0.01, \"colour\": 1", ":5: colour: unknown key"},
+      {"\"dt_s\": 0.01", "\"dt_s\": 0.5", ":5: dt_s"},
+      {"\"kind\": \"rest\"", "\"kind\": \"asleep\"", ":6: start.kind"},
+      {"{\"t_s\": 0.5,  \"insertion_m\": 0.0", "{\"t_s\": 0.5,  \"insertion_m\": 2.5", ":9: script[1].insertion_m"},
+      {"\"knob_updown_rad\": 1.2", "\"knob_updown_rad\": 3.5", ":12: script[4].knob_updown_rad"},
+      {"\"knob_leftright_rad\": -0.1}", "\"knob_leftright_rad\": 2.9}", ":10: script[2].knob_leftright_rad"},
+      {"{\"t_s\": 1.2,", "{\"t_s\": 0.4,", ":11: script[3].t_s: keyframe times must increase"},
+      {"{\"t_s\": 0.0,", "{\"t_s\": 0.1,", ":8: script[0].t_s"},
+      {"\"rotation_rad\": 0.5, \"knob_updown_rad\": 0.2, \"knob_leftright_rad\": -0.1},\n    {\"t_s\": 1.2,",
+       "\"rotation_rad\": 0.5, \"knob_updown_rad\": 0.2, \"knob_leftright_rad\": -0.1, \"speed\": 2},\n    {\"t_s\": 1.2,",
+       ":10: script[2].speed: unknown key"},
+      {"\"seed\": 7", "\"seed\": NaN", "line 5"},
+      {"\"anatomy\": \"anatomy/adult.json\"", "\"anatomy\": \"anatomy/none.json\"", ":4: anatomy: no such file"},
+      {"\"script\": [", "\"overrides\": {\"wall_friction\": 5},\n  \"script\": [", ":7: overrides.wall_friction"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.to);
+    const std::string path = dir.write("bad.json", replaced(good, c.from, c.to));
+    test::expectInputError([&] { loadScenario(path); }, {path, c.fragment});
+  }
+  // Cut off: a syntax error with its line.
+  const std::string cut = dir.write("cut.json", good.substr(0, good.size() / 2));
+  test::expectInputError([&] { loadScenario(cut); }, {cut, "invalid JSON", "line"});
+}
+
+TEST(Scenario, KeyPathsMapToLines) {
+  const std::string text = "{\n  \"a\": 1,\n  \"b\": {\"c\": [\n    10,\n    {\"d\": 2}\n  ]}\n}";
+  EXPECT_EQ(lineOfKeyPath(text, "a"), 2);
+  EXPECT_EQ(lineOfKeyPath(text, "b.c"), 3);
+  EXPECT_EQ(lineOfKeyPath(text, "b.c[0]"), 4);
+  EXPECT_EQ(lineOfKeyPath(text, "b.c[1].d"), 5);
+  EXPECT_EQ(lineOfKeyPath(text, "b.c[1].missing"), 5);  // its nearest existing ancestor
+  EXPECT_EQ(lineOfKeyPath(text, "zz"), 0);
+}
+
+}  // namespace
+}  // namespace colosim

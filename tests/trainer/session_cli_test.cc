@@ -1,0 +1,147 @@
+// `colosim score` and `colosim replay` end to end: exit codes, messages, JSON output.
+// Sessions are recorded here with the colon-only simulation, which is what the command
+// simulates until the scope is plugged in (trainer/app/simulation_factory.cc).
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "fixture.h"
+#include "session_fixture.h"
+#include "trainer/colon_simulation.h"
+#include "trainer/replay.h"
+
+namespace colosim {
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+Result run(const std::string& args, const test::TempDir& dir) {
+  Result r;
+  const std::string err_file = dir.file("stderr.txt");
+  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + " 2>" + err_file;
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t got;
+  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = test::readFile(err_file);
+  return r;
+}
+
+std::string record(const test::TempDir& dir, const std::string& name, int seed) {
+  std::string text = test::smallScenarioText(name);
+  text.replace(text.find("\"seed\": 7"), 9, "\"seed\": " + std::to_string(seed));
+  const Scenario sc = loadScenario(dir.write(name + ".json", text));
+  const std::string path = dir.file(name + ".jsonl");
+  ColonOnlySimulation sim(sc);
+  SessionWriter w(path, sessionHeaderFor(sc, "test"));
+  runScenario(sc, sim, &w);
+  return path;
+}
+
+TEST(SessionCli, HelpWorks) {
+  test::TempDir dir;
+  EXPECT_EQ(run("score --help", dir).code, 0);
+  EXPECT_EQ(run("replay --help", dir).code, 0);
+}
+
+TEST(SessionCli, ReplayCheckReproducesTheRecording) {
+  test::TempDir dir;
+  const std::string s = record(dir, "a", 1);
+  const Result r = run("replay " + s + " --check", dir);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("matches the recording"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("250 steps"), std::string::npos) << r.out;
+
+  // A recording whose final hash is not what the simulation gives: --check fails (exit 1).
+  std::string text = test::readFile(s);
+  const auto pos = text.rfind("\"state_hash\":\"") + 14;
+  text[pos] = text[pos] == '0' ? '1' : '0';
+  const std::string tampered = dir.write("tampered.jsonl", text);
+  const Result t = run("replay " + tampered + " --check", dir);
+  EXPECT_EQ(t.code, 1) << t.out << t.err;
+  EXPECT_NE(t.err.find("final state hash"), std::string::npos) << t.err;
+  EXPECT_EQ(run("replay " + tampered, dir).code, 0);  // without --check: reported, not failed
+}
+
+TEST(SessionCli, TruncatedSessionReplaysItsPrefixAndSaysSo) {
+  test::TempDir dir;
+  const std::string s = record(dir, "a", 1);
+  const std::string text = test::readFile(s);
+  const std::string cut = dir.write("cut.jsonl", text.substr(0, text.size() - 40));
+  const Result r = run("replay " + cut + " --check", dir);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.err.find("cut off"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("TRUNCATED"), std::string::npos) << r.out;
+}
+
+TEST(SessionCli, ScoreJsonIsOneObjectPerSessionInOrder) {
+  test::TempDir dir;
+  const std::string a = record(dir, "a", 1), b = record(dir, "b", 2), c = record(dir, "c", 3);
+  const Result r = run("score " + c + " " + a + " " + b + " --json", dir);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 3u);
+  EXPECT_EQ(j[0]["session"], c);
+  EXPECT_EQ(j[1]["session"], a);
+  EXPECT_EQ(j[2]["session"], b);
+  for (const nlohmann::json& o : j) {
+    for (const char* key : {"time_to_caecum_s", "peak_handle_force_N", "peak_wall_force_N",
+                            "excessive_pressure_episodes", "discomfort_index", "discomfort_time_pct",
+                            "loop_time_s", "max_loop_turns", "mucosa_visualised_pct", "redout_time_s",
+                            "lumen_lost_count", "insertion", "withdrawal", "units"})
+      EXPECT_TRUE(o.contains(key)) << key;
+    EXPECT_TRUE(o["time_to_caecum_s"].is_null());  // the colon alone never reaches the caecum
+    EXPECT_TRUE(o["state_hash_reproduced"].get<bool>());
+    EXPECT_NEAR(o["duration_s"].get<double>(), 2.5, 1e-9);
+  }
+  // Text output too.
+  const Result t = run("score " + a, dir);
+  EXPECT_EQ(t.code, 0) << t.err;
+  EXPECT_NE(t.out.find("time to caecum"), std::string::npos) << t.out;
+}
+
+TEST(SessionCli, BadSessionsExitWithTwoNamingFileAndLine) {
+  test::TempDir dir;
+  const std::string good = record(dir, "a", 1);
+  std::string text = test::readFile(good);
+  text.replace(text.find("\"version\":1"), 11, "\"version\":2");
+  const std::string bad = dir.write("bad.jsonl", text);
+  const Result r = run("score " + good + " " + bad + " --json", dir);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find(bad + ":1:"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;  // nothing printed for the good one either
+  EXPECT_EQ(run("replay " + bad, dir).code, 2);
+  EXPECT_EQ(run("replay " + dir.file("none.jsonl"), dir).code, 2);
+
+  // A session whose scenario has gone: exit 2 naming the session's header line.
+  const std::string orphan = record(dir, "gone", 1);
+  std::remove(dir.file("gone.json").c_str());
+  const Result o = run("replay " + orphan, dir);
+  EXPECT_EQ(o.code, 2);
+  EXPECT_NE(o.err.find(orphan + ":1:"), std::string::npos) << o.err;
+}
+
+TEST(SessionCli, FramesNeverOverwriteExistingFiles) {
+  test::TempDir dir;
+  const std::string s = record(dir, "a", 1);
+  std::filesystem::create_directories(dir.file("frames"));
+  const std::string keep = dir.write("frames/frame_000000.png", "precious");
+  const Result r = run("replay " + s + " --frames " + dir.file("frames"), dir);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_NE(r.err.find("not empty"), std::string::npos) << r.err;
+  EXPECT_EQ(test::readFile(keep), "precious");
+  EXPECT_EQ(run("replay " + s + " --size 10", dir).code, 2);
+}
+
+}  // namespace
+}  // namespace colosim

@@ -1,0 +1,313 @@
+// Sessions: format round trip, flushing as it goes, truncation at every byte, and every
+// kind of bad input named with its file and line.
+#include "trainer/session.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "fake_simulation.h"
+#include "fixture.h"
+#include "session_fixture.h"
+#include "trainer/replay.h"
+#include "trainer/scenario.h"
+#include "trainer/strict_json.h"
+
+namespace colosim {
+namespace {
+
+std::vector<std::string> splitLines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  return lines;
+}
+
+std::string joinLines(const std::vector<std::string>& lines) {
+  std::string t;
+  for (const std::string& l : lines) t += l + "\n";
+  return t;
+}
+
+// A real session of the small scenario, recorded with the fake simulation.
+struct Recorded {
+  test::TempDir dir;
+  Scenario scenario;
+  std::string path;
+  std::string text;
+  RunResult run;
+  Recorded() {
+    scenario = loadScenario(dir.write("small.json", test::smallScenarioText()));
+    path = dir.file("s.jsonl");
+    test::FakeSimulation sim(scenario);
+    SessionWriter w(path, sessionHeaderFor(scenario, "test"));
+    run = runScenario(scenario, sim, &w);
+    text = test::readFile(path);
+  }
+};
+
+TEST(Session, RoundTripReconstructsEveryStepsInput) {
+  Recorded r;
+  const Session s = readSession(r.path);
+  EXPECT_TRUE(s.complete);
+  EXPECT_FALSE(s.truncated);
+  EXPECT_EQ(s.header.scenario, r.scenario.id);
+  EXPECT_EQ(s.header.scenario_hash, r.scenario.file_hash);
+  EXPECT_EQ(s.header.dt_s, 0.01);
+  EXPECT_EQ(s.header.seed, 7);
+  EXPECT_EQ(s.header.colosim_version, "test");
+  EXPECT_EQ(s.steps, 250);
+  EXPECT_EQ(s.final_state_hash, r.run.final_state_hash);
+  ASSERT_TRUE(s.summary.contains("scores"));
+  EXPECT_EQ(s.summary["scores"], r.run.scores);
+  // Inputs only when they change: the script steps 3 times (each step may take two
+  // lines when the keyframe time falls between two steps), not 250 lines.
+  EXPECT_GE(s.inputs.size(), 4u);
+  EXPECT_LE(s.inputs.size(), 7u);
+  // Holding each recorded input until the next gives back the script at every step, bit for bit.
+  size_t next = 0;
+  HandleInput in;
+  for (long k = 0; k < s.steps; ++k) {
+    if (next < s.inputs.size() && s.inputs[next].step == k) in = s.inputs[next++].input;
+    const HandleInput want = scriptedInput(r.scenario.script, k * r.scenario.dt_s);
+    ASSERT_EQ(in.insertion_m, want.insertion_m) << k;
+    ASSERT_EQ(in.rotation_rad, want.rotation_rad) << k;
+    ASSERT_EQ(in.knob_updown_rad, want.knob_updown_rad) << k;
+    ASSERT_EQ(in.knob_leftright_rad, want.knob_leftright_rad) << k;
+  }
+  // The simulation's event, at the step it happened.
+  ASSERT_EQ(s.events.size(), 1u);
+  EXPECT_EQ(s.events[0].name, "solver_limited");
+  EXPECT_EQ(s.events[0].step, 150);
+  // A checkpoint per simulated second.
+  ASSERT_EQ(s.checkpoints.size(), 2u);
+  EXPECT_EQ(s.checkpoints[0].step, 100);
+  EXPECT_EQ(s.checkpoints[1].step, 200);
+}
+
+TEST(Session, WrittenAsItGoesAndFlushedEverySecond) {
+  test::TempDir dir;
+  const Scenario sc = loadScenario(dir.write("small.json", test::smallScenarioText()));
+  const std::string path = dir.file("live.jsonl");
+  test::FakeSimulation sim(sc);
+  SessionWriter w(path, sessionHeaderFor(sc, "test"));
+  // What a crash would leave: the file as it is on disk while the run goes on.
+  std::vector<std::string> on_disk(251);
+  long step = 0;
+  RunHooks hooks;
+  hooks.on_step = [&](const Telemetry&) { on_disk[++step] = test::readFile(path); };
+  runScenario(sc, sim, &w, hooks);
+  // Right after the checkpoint of second 1, everything up to it is readable.
+  const Session at_1s = parseSession(on_disk[100], path);
+  EXPECT_TRUE(at_1s.truncated);
+  EXPECT_EQ(at_1s.steps, 100);
+  EXPECT_EQ(at_1s.checkpoints.size(), 1u);
+  // At any time at most one simulated second (100 steps) is not yet on disk.
+  for (long k = 1; k <= 250; ++k) {
+    const Session s = parseSession(on_disk[k], path);
+    EXPECT_GE(s.steps, k - 100) << "after step " << k;
+  }
+}
+
+TEST(Session, ReplayIsBitIdentical) {
+  Recorded r;
+  const ReplayPlan plan = planReplay(r.path);
+  EXPECT_TRUE(plan.warnings.empty());
+  test::FakeSimulation a(plan.scenario), b(plan.scenario);
+  const ReplayResult ra = replay(plan, a), rb = replay(plan, b);
+  EXPECT_EQ(ra.final_state_hash, r.run.final_state_hash);
+  EXPECT_EQ(rb.final_state_hash, ra.final_state_hash);
+  EXPECT_TRUE(ra.hashOk()) << ra.mismatch;
+  EXPECT_TRUE(ra.final_hash_checked);
+  EXPECT_EQ(ra.checkpoints_checked, 2);
+  EXPECT_EQ(ra.scores, r.run.scores);
+}
+
+TEST(Session, ReplayNoticesADifferentSimulation) {
+  Recorded r;
+  ReplayPlan plan = planReplay(r.path);
+  plan.scenario.seed += 1;  // the fake's chaotic variable starts elsewhere
+  test::FakeSimulation other(plan.scenario);
+  const ReplayResult res = replay(plan, other);
+  EXPECT_FALSE(res.hashOk());
+  EXPECT_NE(res.mismatch.find(r.path + ":"), std::string::npos) << res.mismatch;
+}
+
+TEST(Session, ChangedScenarioIsWarnedAbout) {
+  Recorded r;
+  std::string text = test::smallScenarioText();
+  text.replace(text.find("test scenario"), 13, "edited since");
+  r.dir.write("small.json", text);
+  const ReplayPlan plan = planReplay(r.path);
+  ASSERT_EQ(plan.warnings.size(), 1u);
+  EXPECT_NE(plan.warnings[0].find("scenario file"), std::string::npos) << plan.warnings[0];
+}
+
+TEST(Session, CutMidLineReplaysItsPrefixAndSaysSo) {
+  Recorded r;
+  const std::vector<std::string> lines = splitLines(r.text);
+  // Keep the first 6 lines and half of the 7th.
+  std::string cut;
+  for (int i = 0; i < 6; ++i) cut += lines[i] + "\n";
+  cut += lines[6].substr(0, lines[6].size() / 2);
+  const std::string path = r.dir.write("cut.jsonl", cut);
+  const Session s = readSession(path);
+  EXPECT_TRUE(s.truncated);
+  EXPECT_FALSE(s.complete);
+  EXPECT_NE(s.message.find(path + ":7"), std::string::npos) << s.message;
+  EXPECT_NE(s.message.find("cut off"), std::string::npos) << s.message;
+  EXPECT_EQ(s.lines, 6);
+  // The prefix replays: its steps are those of its last complete record, and the state
+  // after them is the recorded run's (checked against the checkpoints it holds).
+  const nlohmann::json last = nlohmann::json::parse(lines[5]);
+  EXPECT_EQ(s.steps, last["step"].get<long>());
+  const ReplayPlan plan = planReplay(path);
+  test::FakeSimulation sim(plan.scenario);
+  const ReplayResult res = replay(plan, sim);
+  EXPECT_TRUE(res.truncated);
+  EXPECT_FALSE(res.final_hash_checked);
+  EXPECT_TRUE(res.hashOk()) << res.mismatch;
+  EXPECT_EQ(res.steps, s.steps);
+}
+
+TEST(Session, NoEndLineIsATruncatedSession) {
+  Recorded r;
+  std::vector<std::string> lines = splitLines(r.text);
+  lines.pop_back();
+  const Session s = parseSession(joinLines(lines), "x.jsonl");
+  EXPECT_TRUE(s.truncated);
+  EXPECT_NE(s.message.find("no end line"), std::string::npos) << s.message;
+}
+
+// Cutting a real session at every byte gives either a replayable prefix or a clear
+// InputError: never a crash, never a wrong replay.
+TEST(Session, CutAtEveryBytePositionIsAPrefixOrAClearError) {
+  Recorded r;
+  const size_t header_len = r.text.find('\n');  // header without its newline
+  const std::string name = "cut.jsonl";
+  int prefixes = 0, errors = 0;
+  long last_steps = 0;
+  for (size_t k = 0; k <= r.text.size(); ++k) {
+    Session s;
+    try {
+      s = parseSession(r.text.substr(0, k), name);
+    } catch (const InputError& e) {
+      ++errors;
+      const std::string msg = e.what();
+      EXPECT_LT(k, header_len) << "cut at " << k << ": " << msg;
+      EXPECT_EQ(msg.rfind(name, 0), 0u) << msg;  // names the file
+      continue;
+    }
+    ++prefixes;
+    ASSERT_GE(k, header_len);
+    EXPECT_EQ(s.complete, k >= r.text.size() - 1) << k;  // the end line needs only its newline
+    EXPECT_EQ(s.truncated, !s.complete);
+    if (s.truncated) {
+      EXPECT_FALSE(s.message.empty());
+    }
+    EXPECT_GE(s.steps, last_steps) << "a longer prefix never replays less";
+    last_steps = s.steps;
+    ReplayPlan plan;
+    plan.session = s;
+    plan.scenario = r.scenario;
+    test::FakeSimulation sim(plan.scenario);
+    const ReplayResult res = replay(plan, sim);
+    ASSERT_TRUE(res.hashOk()) << "cut at " << k << ": " << res.mismatch;
+  }
+  EXPECT_EQ(errors, static_cast<int>(header_len));
+  EXPECT_GT(prefixes, 1000);
+  EXPECT_EQ(last_steps, 250);
+}
+
+// ---- Bad input: each names the file and the line ----------------------------------
+
+struct BadCase {
+  const char* what;
+  int line;                // 1-based line to edit
+  std::string (*edit)(const std::string& line);
+  const char* fragment;    // expected in the message
+};
+
+std::string setKey(const std::string& line, const std::string& key, const nlohmann::json& v) {
+  nlohmann::json j = nlohmann::json::parse(line);
+  j[key] = v;
+  return j.dump();
+}
+
+TEST(Session, BadInputsNameFileAndLine) {
+  Recorded r;
+  const std::vector<std::string> lines = splitLines(r.text);
+  // Line numbers: 1 header, 2 first input (step 0), 3 second input.
+  const std::vector<BadCase> cases = {
+      {"wrong version", 1, [](const std::string& l) { return setKey(l, "version", 2); }, "unsupported version 2"},
+      {"wrong format", 1, [](const std::string& l) { return setKey(l, "format", "other"); }, "format"},
+      {"unknown key in header", 1, [](const std::string& l) { return setKey(l, "colour", "red"); }, "colour: unknown key"},
+      {"unknown key in input", 3, [](const std::string& l) { return setKey(l, "speed", 1.0); }, "speed: unknown key"},
+      {"missing key", 3,
+       [](const std::string& l) {
+         nlohmann::json j = nlohmann::json::parse(l);
+         j.erase("rotation_rad");
+         return j.dump();
+       },
+       "rotation_rad: missing key"},
+      {"NaN", 3,
+       [](const std::string& l) {
+         std::string t = l;
+         const auto p = t.find("\"insertion_m\":") + 14;
+         return t.replace(p, t.find(',', p) - p, "NaN");
+       },
+       "invalid JSON"},
+      {"insertion beyond 2 m", 3, [](const std::string& l) { return setKey(l, "insertion_m", 2.5); }, "insertion_m"},
+      {"negative insertion", 3, [](const std::string& l) { return setKey(l, "insertion_m", -0.01); }, "out of range"},
+      {"up/down knob beyond 180 deg", 3, [](const std::string& l) { return setKey(l, "knob_updown_rad", 3.2); },
+       "knob_updown_rad"},
+      {"left/right knob beyond 160 deg", 3,
+       [](const std::string& l) { return setKey(l, "knob_leftright_rad", -2.8); }, "knob_leftright_rad"},
+      {"insertion as text", 3, [](const std::string& l) { return setKey(l, "insertion_m", "0.3"); }, "expected a number"},
+      {"non-increasing step", 3,
+       [](const std::string& l) { return setKey(setKey(l, "step", 0), "t_s", 0.0); }, "increase"},
+      {"time disagrees with step", 3, [](const std::string& l) { return setKey(l, "t_s", 99.0); }, "does not match"},
+      {"unknown record type", 3, [](const std::string& l) { return setKey(l, "type", "inptu"); }, "type"},
+      {"bad hash", static_cast<int>(lines.size()),
+       [](const std::string& l) { return setKey(l, "state_hash", "xyz"); }, "16 lowercase hex"},
+      {"garbage line", 3, [](const std::string&) { return std::string("{\"type\": \"input\", "); }, "invalid JSON"},
+      {"empty line", 3, [](const std::string&) { return std::string(); }, "empty line"},
+  };
+  for (const BadCase& c : cases) {
+    std::vector<std::string> edited = lines;
+    edited[c.line - 1] = c.edit(lines[c.line - 1]);
+    const std::string path = r.dir.write("bad.jsonl", joinLines(edited));
+    SCOPED_TRACE(c.what);
+    test::expectInputError([&] { readSession(path); }, {path + ":" + std::to_string(c.line) + ":", c.fragment});
+  }
+  // Structure: a header that is not first, a second header, lines after the end.
+  {
+    std::vector<std::string> e = lines;
+    std::swap(e[0], e[1]);
+    const std::string p = r.dir.write("order.jsonl", joinLines(e));
+    test::expectInputError([&] { readSession(p); }, {p + ":1:", "first line must be the header"});
+  }
+  {
+    std::vector<std::string> e = lines;
+    e.insert(e.begin() + 2, lines[0]);
+    const std::string p = r.dir.write("two.jsonl", joinLines(e));
+    test::expectInputError([&] { readSession(p); }, {p + ":3:", "second header"});
+  }
+  {
+    std::vector<std::string> e = lines;
+    e.push_back(lines[1]);
+    const std::string p = r.dir.write("after.jsonl", joinLines(e));
+    test::expectInputError([&] { readSession(p); }, {p + ":" + std::to_string(e.size()) + ":", "after the end"});
+  }
+  test::expectInputError([&] { parseSession("", "empty.jsonl"); }, {"empty.jsonl", "empty file"});
+  test::expectInputError([&] { readSession(r.dir.file("missing.jsonl")); }, {"missing.jsonl", "cannot open"});
+}
+
+TEST(Session, HashesPrintAsSixteenHexDigits) {
+  EXPECT_EQ(hashToHex(0), "0000000000000000");
+  EXPECT_EQ(hashToHex(0xfedcba9876543210ull), "fedcba9876543210");
+}
+
+}  // namespace
+}  // namespace colosim

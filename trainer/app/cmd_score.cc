@@ -1,0 +1,95 @@
+// colosim score SESSION... [--json] [--threads N]: replays sessions headless and scores
+// them, on every core when given many; results in the order given.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include "trainer/app/commands.h"
+#include "trainer/app/simulation_factory.h"
+#include "trainer/progress.h"
+#include "trainer/replay.h"
+#include "trainer/strict_json.h"
+
+namespace colosim::app {
+
+namespace {
+
+struct ScoreCommandOptions {
+  std::vector<std::string> sessions;
+  bool json = false;
+  unsigned threads = 0;
+};
+
+// One session's line in the output: where it came from, how faithful the replay was,
+// then the scores.
+nlohmann::json sessionJson(const ReplayResult& r) {
+  nlohmann::json j;
+  j["session"] = r.file;
+  j["scenario"] = r.scenario;
+  j["steps"] = r.steps;
+  j["complete"] = r.complete;
+  j["truncated"] = r.truncated;
+  if (r.truncated) j["message"] = r.message;
+  j["state_hash_reproduced"] = r.hashOk();
+  for (auto it = r.scores.begin(); it != r.scores.end(); ++it) j[it.key()] = it.value();
+  return j;
+}
+
+std::string num(const nlohmann::json& v, const char* fmt) {
+  if (v.is_null()) return "n/a";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v.get<double>());
+  return buf;
+}
+
+int runScore(const ScoreCommandOptions& o) {
+  // replaySessions reads every session first: a bad one stops the batch before any work.
+  constexpr long kBarUnits = 1000;
+  ProgressBar bar("score", kBarUnits, stderrIsTerminal());
+  const std::vector<ReplayResult> results =
+      replaySessions(o.sessions, simulationFactory(), o.threads,
+                     [&](long done, long total) { bar.update(done * kBarUnits / std::max(total, 1L)); });
+  bar.finish();
+  nlohmann::json all = nlohmann::json::array();
+  for (size_t i = 0; i < results.size(); ++i) {
+    const ReplayResult& r = results[i];
+    for (const std::string& w : r.warnings) std::cerr << "colosim: warning: " << w << "\n";
+    if (r.truncated) std::cerr << "colosim: warning: " << r.message << "\n";
+    if (!r.hashOk()) std::cerr << "colosim: warning: replay differs from the recording: " << r.mismatch << "\n";
+    all.push_back(sessionJson(r));
+  }
+  if (o.json) {
+    std::cout << all.dump(2) << "\n";
+    return 0;
+  }
+  for (const nlohmann::json& j : all) {
+    std::cout << j["session"].get<std::string>() << " (" << j["scenario"].get<std::string>() << ", "
+              << num(j["duration_s"], "%.1f") << " s" << (j["truncated"].get<bool>() ? ", TRUNCATED" : "") << ")\n";
+    std::cout << "  time to caecum          " << num(j["time_to_caecum_s"], "%.1f") << " s\n"
+              << "  peak handle force       " << num(j["peak_handle_force_N"], "%.1f") << " N\n"
+              << "  peak wall force         " << num(j["peak_wall_force_N"], "%.1f") << " N, "
+              << j["excessive_pressure_episodes"].get<int>() << " excessive-pressure episodes\n"
+              << "  discomfort              index " << num(j["discomfort_index"], "%.2f") << " s, "
+              << num(j["discomfort_time_pct"], "%.1f") << " % of the time\n"
+              << "  loops                   " << num(j["loop_time_s"], "%.1f") << " s with a loop, largest "
+              << num(j["max_loop_turns"], "%.2f") << " turns\n"
+              << "  mucosa visualised       " << num(j["mucosa_visualised_pct"], "%.1f") << " %\n"
+              << "  red-out                 " << num(j["redout_time_s"], "%.1f") << " s, lumen lost "
+              << j["lumen_lost_count"].get<int>() << " times\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addScoreCommand(CLI::App& app, Action& action) {
+  auto o = std::make_shared<ScoreCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("score", "Replay recorded sessions headless and score them (every core when given many)");
+  cmd->add_option("SESSION", o->sessions, "session files (.jsonl)")->required();
+  cmd->add_flag("--json", o->json, "print a JSON array, one object per session in the order given");
+  cmd->add_option("--threads", o->threads, "worker threads (0: every core)")->check(CLI::Range(0u, 1024u))
+      ->capture_default_str();
+  cmd->callback([&action, o] { action = [o]() -> int { return runScore(*o); }; });
+}
+
+}  // namespace colosim::app

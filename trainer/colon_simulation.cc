@@ -1,0 +1,71 @@
+#include "trainer/colon_simulation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/colon_step.h"
+#include "trainer/assets.h"
+#include "trainer/scenario.h"
+
+namespace colosim {
+
+Simulation::~Simulation() = default;
+
+double mesenteryStretch(const ColonModel& model, const ColonState& state) {
+  const double g_m_per_s2 = model.gravity_m_per_s2.norm();
+  if (!(g_m_per_s2 > 0)) return 0.0;
+  // Lifter forces at the control points: F = K (q - q0), one coordinate at a time.
+  std::vector<double> d(model.n), f(model.n);
+  Eigen::Matrix3Xd force(3, model.n);
+  for (int c = 0; c < 3; ++c) {
+    for (int i = 0; i < model.n; ++i) d[i] = state.q(c, i) - model.q_rest(c, i);
+    model.mesentery_K.multiply(d.data(), f.data());
+    for (int i = 0; i < model.n; ++i) force(c, i) = f[i];
+  }
+  double largest = 0.0;
+  for (int i = 0; i < model.n; ++i)
+    largest = std::max(largest, force.col(i).norm() / (model.mass_rowsum_kg(i) * g_m_per_s2));
+  return largest;
+}
+
+ColonOnlySimulation::ColonOnlySimulation(const Scenario& scenario) : dt_s_(scenario.dt_s) {
+  Parameters params = loadParameters(scenario.params_path);
+  if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
+  model_ = loadColonModel(scenario.anatomy_path, params);
+  state_ = makeColonState(model_);
+  if (scenario.start.kind == "settled") {
+    const long settle_steps = std::lround(scenario.start.settle_s / dt_s_);
+    for (long k = 0; k < settle_steps; ++k) stepColon(model_, state_, dt_s_);
+    // The session's clock starts after settling.
+    state_.time_s = 0.0;
+  }
+  if (!scenario.script.empty()) last_input_ = scenario.script.front().input;
+}
+
+void ColonOnlySimulation::step(const HandleInput& in) {
+  last_input_ = in;
+  state_.loads.clear();
+  stepColon(model_, state_, dt_s_);
+}
+
+Telemetry ColonOnlySimulation::telemetry() const {
+  Telemetry t;
+  t.time_s = state_.time_s;
+  t.input = last_input_;
+  t.tip_position_m = Vec3::Zero();  // no scope: the tip stays at the anus
+  t.tip_to_caecum_m = state_.q.col(model_.n - 1).norm();
+  t.mesentery_stretch = mesenteryStretch(model_, state_);
+  return t;
+}
+
+std::vector<std::string> ColonOnlySimulation::events() const {
+  if (!state_.solver_ok) return {"solver_failed"};
+  return {};
+}
+
+std::unique_ptr<Simulation> makeColonOnlySimulation(const Scenario& scenario) {
+  return std::make_unique<ColonOnlySimulation>(scenario);
+}
+
+}  // namespace colosim

@@ -1,0 +1,174 @@
+#include "trainer/scenario.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "trainer/assets.h"
+#include "trainer/handle_io.h"
+#include "trainer/json_position.h"
+#include "trainer/strict_json.h"
+
+namespace colosim {
+
+namespace fs = std::filesystem;
+
+long Scenario::steps() const { return std::lround(duration_s / dt_s); }
+
+namespace {
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return buf.str();
+}
+
+// An asset path as written in a scenario: relative to assets/ (or absolute).
+std::string assetFile(JsonObject& top, const std::string& key) {
+  const std::string rel = top.string(key);
+  if (rel.empty()) top.fail(key, "must not be empty");
+  const std::string path = (!rel.empty() && rel[0] == '/') ? rel : assetPath(rel);
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) top.fail(key, "no such file: " + path + " (paths are relative to " + assetDir() + ")");
+  return path;
+}
+
+Scenario parseScenario(const nlohmann::json& j, const std::string& path) {
+  JsonObject top(j, path);
+  const std::string format = top.string("format");
+  if (format != "colosim-scenario") top.fail("format", "expected 'colosim-scenario', got '" + format + "'");
+  const int version = top.integer("version", 0, 1000000);
+  if (version != 1) top.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1)");
+
+  Scenario s;
+  s.file = path;
+  s.name = top.string("name");
+  if (s.name.empty()) top.fail("name", "must not be empty");
+  s.description = top.string("description");
+  s.anatomy_path = assetFile(top, "anatomy");
+  s.params_path = assetFile(top, "params");
+  s.dt_s = top.number("dt_s", 1e-5, 1e-2);
+  s.duration_s = top.number("duration_s", 1e-3, 1e5);
+  s.seed = top.integer("seed", 0, INT_MAX);
+
+  JsonObject start = top.object("start");
+  s.start.kind = start.choice("kind", {"rest", "settled", "scripted"});
+  if (s.start.kind == "settled") s.start.settle_s = start.number("settle_s", 0.0, 600.0);
+  if (s.start.kind == "scripted") {
+    s.start.until_s = start.number("until_s", 0.0, s.duration_s);
+    s.scoring.start_s = s.start.until_s;
+  }
+  start.ignore("note");
+  start.finish();
+
+  if (top.has("overrides")) {
+    JsonObject o = top.object("overrides");
+    if (o.has("wall_friction")) s.overrides.wall_friction = o.number("wall_friction", 0.0, 2.0);
+    if (o.has("patient_position"))
+      s.overrides.patient_position = o.choice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
+    o.finish();
+  }
+
+  if (top.has("scoring")) {
+    JsonObject sc = top.object("scoring");
+    ScoreOptions& so = s.scoring;
+    if (sc.has("caecum_reach_m")) so.caecum_reach_m = sc.number("caecum_reach_m", 1e-3, 0.5);
+    if (sc.has("excessive_wall_force_N")) so.excessive_wall_force_N = sc.number("excessive_wall_force_N", 0.0, 1e3);
+    if (sc.has("episode_min_s")) so.episode_min_s = sc.number("episode_min_s", 0.0, 60.0);
+    if (sc.has("discomfort_stretch")) so.discomfort_stretch = sc.number("discomfort_stretch", 0.0, 1e3);
+    if (sc.has("loop_turns")) so.loop_turns = sc.number("loop_turns", 0.0, 100.0);
+    if (sc.has("patch_seen_min_s")) so.patch_seen_min_s = sc.number("patch_seen_min_s", 0.0, 60.0);
+    if (sc.has("high_handle_force_N")) so.high_handle_force_N = sc.number("high_handle_force_N", 0.0, 1e3);
+    sc.finish();
+  }
+
+  const nlohmann::json& script = top.raw("script");
+  if (!script.is_array() || script.empty()) top.fail("script", "expected a non-empty list of keyframes");
+  for (size_t i = 0; i < script.size(); ++i) {
+    JsonObject k(script[i], path, "script[" + std::to_string(i) + "]");
+    Keyframe f;
+    f.t_s = k.number("t_s", 0.0, s.duration_s);
+    if (i == 0 && f.t_s != 0.0) k.fail("t_s", "the first keyframe must be at t_s = 0");
+    if (i > 0 && !(f.t_s > s.script.back().t_s))
+      k.fail("t_s", "keyframe times must increase strictly (previous: " + std::to_string(s.script.back().t_s) + " s)");
+    f.input = readHandleInput(k);
+    k.ignore("note");
+    k.finish();
+    s.script.push_back(f);
+  }
+  top.finish();
+  return s;
+}
+
+}  // namespace
+
+Scenario loadScenario(const std::string& path) {
+  const std::string text = readText(path);
+  const nlohmann::json j = parseJsonText(text, path);  // syntax errors carry their line
+  Scenario s;
+  try {
+    s = parseScenario(j, path);
+  } catch (const InputError& e) {
+    throw InputError(addLineToMessage(e.what(), path, text));
+  }
+  s.file_hash = hashFile(path);
+  // A shipped scenario is named by its name, so that sessions replay on other machines.
+  std::error_code ec;
+  const fs::path shipped = fs::path(assetDir()) / "scenarios" / (s.name + ".json");
+  if (fs::equivalent(shipped, path, ec)) s.id = s.name;
+  else s.id = fs::absolute(path).lexically_normal().string();
+  return s;
+}
+
+std::vector<std::string> shippedScenarioNames() {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(fs::path(assetDir()) / "scenarios", ec))
+    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string resolveScenarioPath(const std::string& name_or_path) {
+  std::error_code ec;
+  if (fs::is_regular_file(name_or_path, ec)) return name_or_path;
+  if (name_or_path.find('/') == std::string::npos && !name_or_path.empty()) {
+    std::string file = name_or_path;
+    if (fs::path(file).extension() != ".json") file += ".json";
+    const fs::path shipped = fs::path(assetDir()) / "scenarios" / file;
+    if (fs::is_regular_file(shipped, ec)) return shipped.string();
+  }
+  std::string list;
+  for (const std::string& n : shippedScenarioNames()) list += (list.empty() ? "" : ", ") + n;
+  throw InputError(name_or_path + ": no such scenario (not a file, nor one of the shipped scenarios: " + list + ")");
+}
+
+Scenario findScenario(const std::string& name_or_path) { return loadScenario(resolveScenarioPath(name_or_path)); }
+
+HandleInput scriptedInput(const std::vector<Keyframe>& script, double t_s) {
+  if (script.empty()) return HandleInput{};
+  if (t_s <= script.front().t_s) return script.front().input;
+  if (t_s >= script.back().t_s) return script.back().input;
+  // First keyframe after t_s (the script is short: a binary search keeps it O(log n)).
+  const auto it = std::upper_bound(script.begin(), script.end(), t_s,
+                                   [](double t, const Keyframe& k) { return t < k.t_s; });
+  const Keyframe& b = *it;
+  const Keyframe& a = *(it - 1);
+  const double w = (t_s - a.t_s) / (b.t_s - a.t_s);
+  // Convex combinations stay within the keyframes' range; the clamp guards the last ulp
+  // so that a recorded session never holds a value its reader would refuse.
+  auto lerp = [w](double x, double y) { return std::clamp(x + w * (y - x), std::min(x, y), std::max(x, y)); };
+  HandleInput in;
+  in.insertion_m = lerp(a.input.insertion_m, b.input.insertion_m);
+  in.rotation_rad = lerp(a.input.rotation_rad, b.input.rotation_rad);
+  in.knob_updown_rad = lerp(a.input.knob_updown_rad, b.input.knob_updown_rad);
+  in.knob_leftright_rad = lerp(a.input.knob_leftright_rad, b.input.knob_leftright_rad);
+  return in;
+}
+
+}  // namespace colosim

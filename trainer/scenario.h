@@ -1,0 +1,77 @@
+// Scenarios (assets/scenarios/*.json): a colon, a parameter set, a start state and the
+// handle inputs of a scripted run as keyframes. Format: docs/file-formats.md ("Scenarios").
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/handle_input.h"
+#include "trainer/score.h"
+
+namespace colosim {
+
+/// Handle inputs at one time; inputs between keyframes are interpolated linearly.
+struct Keyframe {
+  double t_s = 0.0;  ///< [s], strictly increasing, the first at 0
+  HandleInput input;
+};
+
+/// How the simulation starts.
+struct ScenarioStart {
+  /// "rest": colon in its rest shape, scope at the first keyframe's inputs;
+  /// "settled": the colon first settles for settle_s under gravity, scope held at the
+  ///   first keyframe (not recorded: part of building the simulation);
+  /// "scripted": like "rest", but the script's first until_s seconds set the scene up
+  ///   (for example forming the alpha loop): they are simulated and recorded, not scored.
+  std::string kind = "rest";
+  double settle_s = 0.0;  ///< [s], "settled" only
+  double until_s = 0.0;   ///< [s], "scripted" only
+};
+
+/// Parameter overrides for this scenario (unset: the parameter file's value).
+struct ScenarioOverrides {
+  std::optional<double> wall_friction;            ///< scope-mucosa friction coefficient [-] (default 0.1)
+  std::optional<std::string> patient_position;    ///< left_lateral | right_lateral | supine | prone
+};
+
+struct Scenario {
+  std::string name;
+  std::string description;
+  std::string file;           ///< where it was read from
+  uint64_t file_hash = 0;     ///< FNV-1a of the file's bytes
+  /// How a session names it: the name for a shipped scenario (found again in
+  /// assets/scenarios/), the absolute path otherwise.
+  std::string id;
+  std::string anatomy_path;   ///< resolved path of the anatomy file
+  std::string params_path;    ///< resolved path of the parameter file
+  double dt_s = 1e-3;         ///< time step [s]
+  double duration_s = 0.0;    ///< length of the scripted run [s]
+  int seed = 0;               ///< seed of every random choice of the simulation
+  ScenarioStart start;
+  ScenarioOverrides overrides;
+  ScoreOptions scoring;       ///< thresholds (defaults unless the file sets them)
+  std::vector<Keyframe> script;
+
+  /// Number of steps of the scripted run: round(duration_s / dt_s).
+  long steps() const;
+};
+
+/// Reads a scenario file strictly: InputError naming the file, the key path and its line.
+Scenario loadScenario(const std::string& path);
+
+/// SCENARIO as users give it: an existing file, or the name of a file in
+/// assets/scenarios/ (with or without ".json"). InputError listing the shipped names
+/// when neither exists.
+std::string resolveScenarioPath(const std::string& name_or_path);
+/// resolveScenarioPath then loadScenario.
+Scenario findScenario(const std::string& name_or_path);
+/// Names of the shipped scenarios, sorted.
+std::vector<std::string> shippedScenarioNames();
+
+/// The scripted handle input at time t_s: linear between keyframes, the first keyframe
+/// before it, the last after it.
+HandleInput scriptedInput(const std::vector<Keyframe>& script, double t_s);
+
+}  // namespace colosim

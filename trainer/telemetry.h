@@ -1,0 +1,44 @@
+// What a simulation reports after each step, for scoring and overlays: plain data.
+#pragma once
+
+#include <vector>
+
+#include "core/handle_input.h"
+#include "core/spline.h"
+
+namespace colosim {
+
+/// One step's measurements. A simulation that cannot measure something (the colon-only
+/// simulation has no scope and no camera) documents the neutral value it reports.
+struct Telemetry {
+  double time_s = 0.0;            ///< simulated time at the end of the step [s]
+  HandleInput input;              ///< the handle input the step used
+  double handle_force_N = 0.0;    ///< axial force the hand applies to the scope, + = push [N]
+  double handle_torque_Nm = 0.0;  ///< axial torque the hand applies, + = clockwise seen by the operator [N m]
+  double wall_force_peak_N = 0.0; ///< largest single scope-wall contact force this step [N]
+  Vec3 tip_position_m = Vec3::Zero();  ///< scope tip in the patient frame [m]
+  double tip_to_caecum_m = 1e9;   ///< distance from the tip to the caecal pole [m]
+  /// Mesentery stretch, the discomfort source [-]: the largest, over the colon's control
+  /// points, of the mesentery lifter force on the point over the weight the point carries
+  /// (lifter force per unit length over weight per unit length; mesenteryStretch in
+  /// trainer/colon_simulation.h). About 1 where the attachments just carry the hanging
+  /// colon (up to ~3 at the flexures, which also carry the free segments); more where the
+  /// scope stretches them.
+  double mesentery_stretch = 0.0;
+  /// Loop measure [turns]: net turning of the scope inside the sigmoid, projected on the
+  /// coronal plane (netTurns in trainer/telemetry.h); ~1 for an alpha loop.
+  double loop_turns = 0.0;
+  bool tip_against_wall = false;  ///< red-out: the lens touches the mucosa
+  bool lumen_visible = true;      ///< the lumen ahead is in the onboard view
+  /// Wall patches lit and in the onboard view within 5 cm this step (ids in [0, patch_count)).
+  std::vector<int> patches_seen;
+  int patch_count = 0;            ///< number of wall patches of the colon (0: not measured)
+};
+
+/// Net turning of a polyline projected on the plane normal to `normal` [turns]:
+/// the sum of the signed angles between successive projected segments, over 2 pi.
+/// Positive is anticlockwise seen from the tip of `normal`. A full circle gives +-1, an
+/// S shape ~0. Segments shorter than 1e-9 m after projection are skipped.
+double netTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal);
+
+}  // namespace colosim
