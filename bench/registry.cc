@@ -5,6 +5,7 @@ namespace colosim {
 const std::vector<BenchEntry>& benchmarks() {
   static const std::vector<BenchEntry> list = {
       {"colon", "colon step at 50, 100, 200, 400 control points (us per step)", benchColon},
+      {"identify", "identification of a 10,000-row tension test (median seconds of 5 runs)", benchIdentify},
   };
   return list;
 }

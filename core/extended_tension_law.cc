@@ -40,8 +40,10 @@ double fungEnergy(double ea, bool stiffening, double b, double x) {
 
 // c = (1 - exp(-x)) / x, with its limit 1 at x -> 0.
 double relaxWeight(double x) { return x < 1e-8 ? 1.0 - 0.5 * x : -std::expm1(-x) / x; }
+// The same with exp(-x) known (one transcendental per branch and step).
+double relaxWeight(double x, double em) { return x < 1e-4 ? 1.0 - 0.5 * x + x * x / 6.0 : (1.0 - em) / x; }
 
-enum Z { kEPrev = 0, kFsPrev = 1, kH1 = 2, kH2 = 3, kAcc = 4, kEMax = 5 };
+enum Z { kEPrev = 0, kFsPrev = 1, kH1 = 2, kH2 = 3, kAcc = 4, kEMax = 5, kScale = 6, kDFsPrev = 7 };
 
 }  // namespace
 
@@ -66,6 +68,21 @@ void ExtendedLawParams::enable(const std::string& effect) {
   else if (effect == "cyclic_softening") cyclic_softening = true;
   else if (effect == "permanent_set") permanent_set = true;
   else throw std::invalid_argument("unknown tension effect '" + effect + "'");
+}
+
+bool ExtendedLawParams::set(const std::string& name, double v) {
+  if (name == "EA_N") ea_N = v;
+  else if (name == "EC_Ns") ec_Ns = v;
+  else if (name == "fung_b") fung_b = v;
+  else if (name == "relax_g1") relax_g1 = v;
+  else if (name == "relax_tau1_s") relax_tau1_s = v;
+  else if (name == "relax_g2") relax_g2 = v, prony_terms = 2;
+  else if (name == "relax_tau2_s") relax_tau2_s = v, prony_terms = 2;
+  else if (name == "soften_d_inf") soften_d_inf = v;
+  else if (name == "soften_a_c") soften_a_c = v;
+  else if (name == "set_ratio") set_ratio = v;
+  else return false;
+  return true;
 }
 
 void ExtendedLawParams::validate() const {
@@ -121,7 +138,9 @@ std::vector<LawParameter> ExtendedTensionLaw::parameters() const {
 
 void ExtendedTensionLaw::initInternal(double* z) const {
   if (!any_) return;
-  std::fill(z, z + 6, 0.0);
+  std::fill(z, z + kInternal, 0.0);
+  z[kScale] = 1.0;
+  z[kDFsPrev] = p_.ea_N;  // dFs/de of the virgin sample at zero strain
 }
 
 void ExtendedTensionLaw::elastic(double strain, const double* z, double* f, double* df) const {
@@ -129,7 +148,7 @@ void ExtendedTensionLaw::elastic(double strain, const double* z, double* f, doub
   double scale = 1.0;
   if (z) {
     if (p_.permanent_set) x -= p_.set_ratio * z[kEMax];
-    if (p_.cyclic_softening) scale = 1.0 - p_.soften_d_inf * -std::expm1(-z[kAcc] / p_.soften_a_c);
+    scale = z[kScale];
   }
   fung(p_.ea_N, p_.strain_stiffening, p_.fung_b, x, f, df);
   *f *= scale;
@@ -139,7 +158,12 @@ void ExtendedTensionLaw::elastic(double strain, const double* z, double* f, doub
 TensionResponse ExtendedTensionLaw::evaluate(double strain, double strain_rate, double dt_s,
                                              const double* z) const {
   double fs, dfs;
-  elastic(strain, any_ ? z : nullptr, &fs, &dfs);
+  if (any_ && strain == z[kEPrev]) {
+    fs = z[kFsPrev];  // the state of the last advance(): its elastic force, already computed
+    dfs = z[kDFsPrev];
+  } else {
+    elastic(strain, any_ ? z : nullptr, &fs, &dfs);
+  }
   TensionResponse r;
   if (!p_.stress_relaxation) {
     r.force_N = fs + p_.ec_Ns * strain_rate;
@@ -165,20 +189,26 @@ TensionResponse ExtendedTensionLaw::evaluate(double strain, double strain_rate, 
 void ExtendedTensionLaw::advance(double strain, double /*strain_rate*/, double dt_s, double* z) const {
   if (!any_) return;
   // History variables first (they set the elastic curve at the end of the step).
-  if (strain > 0) z[kAcc] += std::max(0.0, strain - std::max(0.0, z[kEPrev]));
+  const double loading = strain > 0 ? std::max(0.0, strain - std::max(0.0, z[kEPrev])) : 0.0;
+  z[kAcc] += loading;
   z[kEMax] = std::max(z[kEMax], strain);
+  if (p_.cyclic_softening && loading > 0)  // d(a) changes only while loading
+    z[kScale] = 1.0 - p_.soften_d_inf * -std::expm1(-z[kAcc] / p_.soften_a_c);
   double fs, dfs;
   elastic(strain, z, &fs, &dfs);
   if (p_.stress_relaxation) {
     const double dfs_step = fs - z[kFsPrev];
     const double x1 = dt_s / p_.relax_tau1_s;
-    z[kH1] = std::exp(-x1) * z[kH1] + p_.relax_g1 * relaxWeight(x1) * dfs_step;
+    const double em1 = std::exp(-x1);
+    z[kH1] = em1 * z[kH1] + p_.relax_g1 * relaxWeight(x1, em1) * dfs_step;
     if (p_.prony_terms == 2) {
       const double x2 = dt_s / p_.relax_tau2_s;
-      z[kH2] = std::exp(-x2) * z[kH2] + p_.relax_g2 * relaxWeight(x2) * dfs_step;
+      const double em2 = std::exp(-x2);
+      z[kH2] = em2 * z[kH2] + p_.relax_g2 * relaxWeight(x2, em2) * dfs_step;
     }
   }
   z[kFsPrev] = fs;
+  z[kDFsPrev] = dfs;
   z[kEPrev] = strain;
 }
 
@@ -186,7 +216,7 @@ double ExtendedTensionLaw::storedEnergy(double strain, const double* z) const {
   double x = strain, scale = 1.0;
   if (any_ && z) {
     if (p_.permanent_set) x -= p_.set_ratio * z[kEMax];
-    if (p_.cyclic_softening) scale = 1.0 - p_.soften_d_inf * -std::expm1(-z[kAcc] / p_.soften_a_c);
+    scale = z[kScale];
   }
   return scale * fungEnergy(p_.ea_N, p_.strain_stiffening, p_.fung_b, x);
 }

@@ -30,8 +30,10 @@
 //   permanent_set      r [-]: e_p = r e_max, e_max the largest strain reached so far: after a
 //                      large stretch the sample is longer and slack at lengths it used to resist.
 //
-// Internal variables per element (internalSize() = 6 when any effect is on, 0 otherwise):
-//   z = [e_prev, Fs_prev [N], h_1 [N], h_2 [N], a [-], e_max [-]].
+// Internal variables per element (internalSize() = 8 when any effect is on, 0 otherwise):
+//   z = [e_prev, Fs_prev [N], h_1 [N], h_2 [N], a [-], e_max [-], 1 - d(a) [-], dFs/de at e_prev [N]]
+// (the last two are caches of the last advance(), so that evaluate() at the same strain
+// costs no transcendental function).
 // evaluate() gives the force of a step that ends at e with z frozen except for the relaxation
 // branches, which take the trial increment g_i c_i (Fs(e) - Fs_prev): its tangent is the
 // algorithmic tangent (g_inf + sum g_i c_i) dFs/de of that update, so the implicit step sees
@@ -75,6 +77,9 @@ struct ExtendedLawParams {
   std::vector<std::string> effects() const;
   /// Switches an effect on by name; throws std::invalid_argument for an unknown name.
   void enable(const std::string& effect);
+  /// Sets a parameter by its name in parameters() (relax_g2 / relax_tau2_s select the
+  /// two-term Prony series); false for an unknown name.
+  bool set(const std::string& name, double value);
   /// Throws std::invalid_argument naming the first parameter out of its range.
   void validate() const;
 };
@@ -89,7 +94,8 @@ class ExtendedTensionLaw final : public TensionLaw {
   /// EA_N, EC_Ns, then the parameters of the effects that are on.
   std::vector<LawParameter> parameters() const override;
 
-  int internalSize() const override { return any_ ? 6 : 0; }
+  static constexpr int kInternal = 8;
+  int internalSize() const override { return any_ ? kInternal : 0; }
   void initInternal(double* z) const override;
   TensionResponse evaluate(double strain, double strain_rate, double dt_s,
                            const double* z) const override;

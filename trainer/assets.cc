@@ -132,10 +132,11 @@ Anatomy loadAnatomy(const std::string& path) {
 }  // namespace colosim
 
 namespace colosim {
-ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params) {
+ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params,
+                          std::shared_ptr<const TensionLaw> law) {
   const Anatomy anatomy = loadAnatomy(anatomy_path);
   try {
-    return buildColonModel(anatomy, params.colon);
+    return buildColonModel(anatomy, params.colon, std::move(law));
   } catch (const std::invalid_argument& e) {
     throw InputError(anatomy_path + ": " + e.what() + " (with parameters " + params.file + ")");
   }

@@ -516,8 +516,8 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   // averaged in blocks. The force varies slowly against the sampling interval of a long
   // test, so averaging keeps its information (and lowers the noise) at a fraction of the
   // cost. The two models reported are then refitted on every row.
-  constexpr size_t kWorkingRows = 1500;
-  const size_t block = test.rows() > 2 * kWorkingRows ? (test.rows() + kWorkingRows - 1) / kWorkingRows : 1;
+  constexpr size_t kWorkingRows = 1000;
+  const size_t block = test.rows() > 3 * kWorkingRows / 2 ? (test.rows() + kWorkingRows - 1) / kWorkingRows : 1;
   const TensionTest work = block > 1 ? blockAverage(test, block) : test;
   Data w;
   prepare(work, &w);

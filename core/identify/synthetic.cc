@@ -14,7 +14,8 @@ double uniform(std::mt19937_64& rng, double a, double b) {
   return a + (b - a) * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
 }
 
-double roundTo(double x, double unit) { return std::round(x / unit) * unit; }
+// Rounds to 1 / per_unit (per_unit a power of ten): the value the file's decimals hold.
+double roundTo(double x, double per_unit) { return std::round(x * per_unit) / per_unit; }
 
 // Commanded elongation at time t [m], piecewise linear along the protocol.
 struct Command {
@@ -51,6 +52,7 @@ SyntheticSpec drawSyntheticSpec(uint64_t seed, const SyntheticDraw& draw) {
   s.seed = seed;
   s.nominal_dt_s = draw.nominal_dt_s;
   s.sample_length_m = uniform(rng, 0.16, 0.20);
+  if (draw.sample_length_m > 0) s.sample_length_m = draw.sample_length_m;
   const double emax = draw.max_elongation_m > 0 ? draw.max_elongation_m : uniform(rng, 0.09, 0.12);
   const double fmax = draw.max_force_N > 0 ? draw.max_force_N : uniform(rng, 8.0, 13.0);
   const double smax = emax / s.sample_length_m;
@@ -97,6 +99,17 @@ SyntheticSpec drawSyntheticSpec(uint64_t seed, const SyntheticDraw& draw) {
   return s;
 }
 
+SyntheticSpec shippedSampleSpec(int sample) {
+  SyntheticDraw draw;
+  draw.effects = {"strain_stiffening", "stress_relaxation"};
+  draw.nominal_dt_s = 0.2;
+  draw.cycles = 11;
+  draw.max_elongation_m = 0.12;
+  draw.max_force_N = sample == 1 ? 14.0 : 13.0;
+  draw.sample_length_m = 0.18;
+  return drawSyntheticSpec(sample == 1 ? 8011 : 8022, draw);
+}
+
 TensionTest generateTensionTest(const SyntheticSpec& s) {
   std::mt19937_64 rng(s.seed ^ 0x9e3779b97f4a7c15ULL);
   std::normal_distribution<double> normal(0.0, 1.0);
@@ -118,6 +131,9 @@ TensionTest generateTensionTest(const SyntheticSpec& s) {
   }
   const ExtendedTensionLaw law(s.truth);
   benchForce(law, 0.0, tf, strain, rate, &force);
+  if (s.foreign_friction_N > 0)
+    for (size_t k = 0; k < nf; ++k)
+      if (force[k] > 0) force[k] += s.foreign_friction_N * std::tanh(rate[k] / 1e-3);
 
   // Sampling at irregular times, interpolating the fine grid; noise and offset.
   TensionTest t;
@@ -133,9 +149,9 @@ TensionTest generateTensionTest(const SyntheticSpec& s) {
     const double f = (1 - w) * force[i] + w * force[i + 1];
     coloured = s.coloured_phi * coloured + innov * normal(rng);
     const double meas = s.offset_N + f + coloured + s.white_sd_N * normal(rng);
-    t.time_s.push_back(roundTo(time, 1e-4));
-    t.elongation_m.push_back(roundTo(e, 1e-6));
-    t.force_N.push_back(roundTo(meas, 1e-4));
+    t.time_s.push_back(roundTo(time, 1e4));
+    t.elongation_m.push_back(roundTo(e, 1e6));
+    t.force_N.push_back(roundTo(meas, 1e4));
     time += s.nominal_dt_s * (1 + s.jitter * (2 * uniform(rng, 0, 1) - 1));
   }
   return t;

@@ -34,6 +34,9 @@ struct SyntheticSpec {
   double white_sd_N = 0.03;           ///< white noise [N]
   double coloured_sd_N = 0.01;        ///< stationary sd of the AR(1) noise [N]
   double coloured_phi = 0.9;          ///< AR(1) coefficient per sample [-]
+  /// A force outside every candidate effect, for tests of `unexplained`: dry friction in
+  /// the grips, +-friction_N with the sign of the elongation rate while the sample is taut [N].
+  double foreign_friction_N = 0;
   uint64_t seed = 0;
 };
 
@@ -44,6 +47,7 @@ struct SyntheticDraw {
   int cycles = 11;                    ///< loading cycles
   double max_elongation_m = 0;        ///< 0: drawn in [0.09, 0.12] m
   double max_force_N = 0;             ///< 0: drawn in [8, 13] N
+  double sample_length_m = 0;         ///< 0: drawn in [0.16, 0.20] m
 };
 
 /// Draws a spec (protocol, law parameters, noise) from physiological ranges.
@@ -52,6 +56,11 @@ SyntheticSpec drawSyntheticSpec(uint64_t seed, const SyntheticDraw& draw);
 /// Runs the bench: the true law on a 5 ms grid through evaluate()/advance(), sampled at
 /// the irregular times, plus offset and noise, rounded as the file stores it.
 TensionTest generateTensionTest(const SyntheticSpec& spec);
+
+/// The shipped example (assets/measurements/): two 180 mm samples stretched to 0.12 m with
+/// forces up to about 11 N, Fung-stiffening and relaxing, like the paper's Figure 8.
+/// sample is 1 or 2. The files are generateTensionTest(shippedSampleSpec(i)).
+SyntheticSpec shippedSampleSpec(int sample);
 
 /// Total duration of a protocol [s] (without the final settling).
 double protocolDuration(const SyntheticSpec& spec);

@@ -13,5 +13,6 @@ using Action = std::function<int()>;
 
 void addRunCommand(CLI::App& app, Action& action);
 void addBenchCommand(CLI::App& app, Action& action);
+void addIdentifyCommand(CLI::App& app, Action& action);
 
 }  // namespace colosim::app

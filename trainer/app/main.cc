@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   colosim::app::Action action;
   colosim::app::addRunCommand(app, action);
   colosim::app::addBenchCommand(app, action);
+  colosim::app::addIdentifyCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
