@@ -93,8 +93,9 @@ struct IdentifyResult {
 /// Runs the whole identification. Deterministic.
 IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& options = {});
 
-/// Fits a law with the given effects to all rows (weights 1) or to the rows of the folds
-/// other than `holdout_fold` (>= 0), starting from `start` when given. Exposed for tests.
+/// Fits a law with the given effects (plus a sensor offset) to every row of a test,
+/// starting from the parameters of `start` when given. No cross-validation (its
+/// heldout_rmse_N is not meaningful). For tools and tests.
 FittedModel fitTensionLaw(const TensionTest& test, const std::vector<std::string>& effects,
                           const FittedModel* start = nullptr);
 
