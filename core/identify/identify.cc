@@ -530,6 +530,8 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   // Forward selection of effects by held-out error, BIC as the second opinion. The
   // candidates of a round are independent fits: two threads (this machine has two cores).
   Fit current = base;
+  std::vector<Fit> round1;  // the single-effect fits, for the exchange step below
+  std::vector<std::string> round1_names;
   for (int round = 1; round <= o.max_effects; ++round) {
     std::vector<std::string> names;
     for (const std::string& e : tensionEffectNames())
@@ -564,10 +566,54 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       if (ev.pays && (best < 0 || ev.heldout_ratio > r.evidence[first_evidence + best].heldout_ratio))
         best = static_cast<int>(i);
     }
+    if (round == 1) round1 = cands, round1_names = names;
     if (best < 0) break;
     r.evidence[first_evidence + best].chosen = true;
     current = std::move(cands[best]);
     r.effects.push_back(names[best]);
+  }
+
+  // Exchange step (stepwise selection): forward selection is greedy, and a first effect
+  // chosen because it mimics part of two others can stay in a wrong pair. With two effects
+  // {A, B}, each unchosen C is tried in place of A ({B, C}); it replaces A only when it
+  // pays for itself against {A, B} by the same rule.
+  if (r.effects.size() == 2) {
+    const std::string a = r.effects[0], b = r.effects[1];
+    const size_t ib = std::find(round1_names.begin(), round1_names.end(), b) - round1_names.begin();
+    std::vector<std::string> names;
+    for (const std::string& e : tensionEffectNames())
+      if (e != a && e != b) names.push_back(e);
+    std::vector<Fit> cands(names.size());
+    auto work_on = [&](size_t first, size_t step) {
+      for (size_t i = first; i < names.size(); i += step)
+        cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
+    };
+    std::thread helper(work_on, 1, 2);
+    work_on(0, 2);
+    helper.join();
+    int best = -1;
+    const size_t first_evidence = r.evidence.size();
+    for (size_t i = 0; i < names.size(); ++i) {
+      const FittedModel& c = cands[i].model;
+      CandidateEvidence ev;
+      ev.round = 3;
+      ev.effect = names[i];
+      ev.model = c.effects;
+      ev.rmse_N = c.rmse_N;
+      ev.heldout_rmse_N = c.heldout_rmse_N;
+      ev.heldout_ratio = current.model.heldout_rmse_N / c.heldout_rmse_N;
+      ev.delta_aic = c.aic - current.model.aic;
+      ev.delta_bic = c.bic - current.model.bic;
+      ev.pays = ev.heldout_ratio >= o.min_heldout_ratio && ev.delta_bic <= o.max_delta_bic;
+      r.evidence.push_back(ev);
+      if (ev.pays && (best < 0 || ev.heldout_ratio > r.evidence[first_evidence + best].heldout_ratio))
+        best = static_cast<int>(i);
+    }
+    if (best >= 0) {
+      r.evidence[first_evidence + best].chosen = true;
+      current = std::move(cands[best]);
+      r.effects = {b, names[best]};
+    }
   }
 
   // The reported models, on every row.
@@ -601,7 +647,11 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   for (const CandidateEvidence& e : r.evidence) {
     if (e.round != round) {
       round = e.round;
-      s += fmt("Round %.0f: candidates added to ", round) + join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
+      if (round == 3)
+        s += "Exchange: candidates replacing the first effect, added to " + e.model.front() + "\n";
+      else
+        s += fmt("Round %.0f: candidates added to ", round) +
+             join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
     }
     s += "  " + e.effect + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
          fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";

@@ -36,7 +36,7 @@ struct FittedModel {
 
 /// What one test of one candidate measured.
 struct CandidateEvidence {
-  int round = 0;                       ///< 1 for the first effect, 2 for the second
+  int round = 0;                       ///< 1: first effect, 2: second, 3: exchange of the first
   std::string effect;                  ///< the candidate added
   std::vector<std::string> model;      ///< the effects of the model tested
   double rmse_N = 0, heldout_rmse_N = 0;

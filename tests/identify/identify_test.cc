@@ -69,7 +69,9 @@ TEST_P(HiddenEffect, IsNamedItsParametersRecoveredAndTheGainMeasured) {
     const bool named = r.effects == truth;
     right += named;
     explained += !r.unexplained;
-    if (!named) ADD_FAILURE() << "case " << k << " (seed " << base + k << "): hidden [" << effect << "], found [" << got << "]";
+    // A miss is reported; the requirement is the 95 % below.
+    if (!named) std::printf("case %d (seed %lu): hidden [%s], found [%s]\n", k, static_cast<unsigned long>(base + k),
+                            effect.c_str(), got.c_str());
     if (!truth.empty()) {
       // A held-out gain in every case with an effect.
       EXPECT_GT(r.heldout_rmse_ratio, 1.0) << "case " << k;
@@ -96,7 +98,7 @@ TEST_P(HiddenEffect, IsNamedItsParametersRecoveredAndTheGainMeasured) {
   RecordProperty("parameters_within_10_percent", params_ok);
   std::printf("%s: named right in %d / %d cases, parameters within 10 %% in %d\n", effect.c_str(), right, kCases,
               params_ok);
-  // Named cases with parameters off by more than 10 % fail the EXPECT_NEAR above.
+  // Every named case must have its identifiable parameters within 10 % (EXPECT_NEAR above).
 }
 
 INSTANTIATE_TEST_SUITE_P(Identify, HiddenEffect,
@@ -104,16 +106,27 @@ INSTANTIATE_TEST_SUITE_P(Identify, HiddenEffect,
                                            "permanent_set"));
 
 TEST(Identify, FindsTwoEffectsTogether) {
-  // Fung stiffening with QLV relaxation: the usual pair in soft tissue.
-  int both = 0;
-  constexpr int kPairCases = 6;
-  for (int k = 0; k < kPairCases; ++k) {
-    const Case c = runCase(5000 + k, {"strain_stiffening", "stress_relaxation"});
-    const std::set<std::string> found(c.result.effects.begin(), c.result.effects.end());
-    both += found == std::set<std::string>{"strain_stiffening", "stress_relaxation"};
-    EXPECT_GT(c.result.heldout_rmse_ratio, 1.0);
-  }
-  EXPECT_EQ(both, kPairCases);
+  // Every pair of effects, 4 cases each: both named (in either order) in >= 95 % of the
+  // cases, and a held-out gain in every case.
+  const std::vector<std::string>& names = tensionEffectNames();
+  int both = 0, cases = 0;
+  for (size_t a = 0; a < names.size(); ++a)
+    for (size_t b = a + 1; b < names.size(); ++b)
+      for (int k = 0; k < 4; ++k) {
+        const Case c = runCase(5000 + 100 * cases + k, {names[a], names[b]});
+        const std::set<std::string> found(c.result.effects.begin(), c.result.effects.end());
+        const bool ok = found == std::set<std::string>{names[a], names[b]};
+        both += ok;
+        ++cases;
+        if (!ok) {
+          std::string got;
+          for (const std::string& e : c.result.effects) got += e + " ";
+          std::printf("hidden %s + %s, found [%s]\n", names[a].c_str(), names[b].c_str(), got.c_str());
+        }
+        EXPECT_GT(c.result.heldout_rmse_ratio, 1.0);
+      }
+  EXPECT_GE(both, std::ceil(0.95 * cases));
+  std::printf("pairs: both effects named in %d / %d cases\n", both, cases);
 }
 
 TEST(Identify, SaysWhenStructureRemainsThatNoCandidateExplains) {
