@@ -30,5 +30,6 @@ const std::vector<BenchEntry>& benchmarks();
 BenchOutput benchColon();
 BenchOutput benchContacts();
 BenchOutput benchUntwist();
+BenchOutput benchIdentify();
 
 }  // namespace colosim

@@ -163,10 +163,11 @@ Anatomy loadAnatomy(const std::string& path) {
 }  // namespace colosim
 
 namespace colosim {
-ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params) {
+ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params,
+                          std::shared_ptr<const TensionLaw> law) {
   const Anatomy anatomy = loadAnatomy(anatomy_path);
   try {
-    return buildColonModel(anatomy, params.colon);
+    return buildColonModel(anatomy, params.colon, std::move(law));
   } catch (const std::invalid_argument& e) {
     throw InputError(anatomy_path + ": " + e.what() + " (with parameters " + params.file + ")");
   }
@@ -174,8 +175,9 @@ ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& par
 }  // namespace colosim
 
 namespace colosim {
-WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params) {
-  ColonModel colon = loadColonModel(anatomy_path, params);
+WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params,
+                          std::shared_ptr<const TensionLaw> law) {
+  ColonModel colon = loadColonModel(anatomy_path, params, std::move(law));
   try {
     return makeWorldModel(std::move(colon), params.scope, params.contact);
   } catch (const std::invalid_argument& e) {

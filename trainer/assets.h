@@ -41,8 +41,10 @@ uint64_t hashFile(const std::string& path);
 namespace colosim {
 /// Builds the colon model of an anatomy file with a parameter set; a mismatch between
 /// the two (an unknown mesentery class, repeated waypoints) is an InputError naming the
-/// anatomy file.
-ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params);
+/// anatomy file. `law` replaces the parameters' Voigt law for the tension elements when given.
+ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params,
+                          std::shared_ptr<const TensionLaw> law = nullptr);
 /// The world (colon, scope at its anus, contacts) of an anatomy file with a parameter set.
-WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params);
+WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params,
+                          std::shared_ptr<const TensionLaw> law = nullptr);
 }  // namespace colosim

@@ -9,16 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/input_error.h"
 #include "core/spline.h"
 
 namespace colosim {
 
-/// Bad input: a file that cannot be used as it is. The message names the file and the
-/// line or key. Commands turn it into exit code 2.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// InputError (bad input, exit code 2) is defined in core/input_error.h.
 
 /// Reads and parses a JSON file. Syntax errors (with line and column), duplicate keys,
 /// an unreadable file: InputError.

@@ -8,6 +8,7 @@
 #include "trainer/assets.h"
 #include "trainer/settle.h"
 #include "trainer/strict_json.h"
+#include "trainer/tension_law_file.h"
 
 namespace colosim::app {
 
@@ -19,14 +20,24 @@ struct RunOptions {
   double dt_s = 1e-3;
   std::string params;
   std::string anatomy;
+  std::string tension_law;  // law file (colosim identify --law-out); empty: the parameters' Voigt law
 };
 
 int runSettle(const RunOptions& o) {
   const Parameters params = loadParameters(o.params.empty() ? assetPath("params/default.json") : o.params);
-  const ColonModel model = loadColonModel(o.anatomy.empty() ? assetPath("anatomy/adult.json") : o.anatomy, params);
+  std::shared_ptr<const TensionLaw> law;
+  if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
+  const ColonModel model =
+      loadColonModel(o.anatomy.empty() ? assetPath("anatomy/adult.json") : o.anatomy, params, law);
   const SettleSummary s = settleColon(model, o.duration_s, o.dt_s);
   std::printf("colosim run settle: adult colon, %d control points over %.3f m, %.1f s at dt = %.4f s (%ld steps)\n",
               s.n_control_points, s.length_m, s.duration_s, s.dt_s, s.steps);
+  if (law) {
+    std::printf("  tension law          %s from %s:", model.tension_law->name().c_str(), o.tension_law.c_str());
+    for (const LawParameter& p : model.tension_law->parameters())
+      std::printf(" %s = %.4g %s;", p.name.c_str(), p.value, p.unit.c_str());
+    std::printf("\n");
+  }
   std::printf("  energy at start      %10.5f J\n", s.energy_start_J);
   std::printf("  energy at end        %10.5f J (kinetic %.3e J)\n", s.energy_end_J, s.kinetic_end_J);
   std::printf("  max displacement     %10.2f mm (in the %s)\n", 1e3 * s.max_displacement_m,
@@ -48,6 +59,8 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("--dt", o->dt_s, "time step [s]")->check(CLI::Range(1e-5, 1e-2))->capture_default_str();
   cmd->add_option("--params", o->params, "parameter file (default: assets/params/default.json)");
   cmd->add_option("--anatomy", o->anatomy, "anatomy file (default: assets/anatomy/adult.json)");
+  cmd->add_option("--tension-law", o->tension_law,
+                  "tension law file for the colon's tension elements (written by colosim identify --law-out)");
   cmd->callback([&action, o] {
     action = [o]() -> int {
       if (o->scenario != "settle") throw InputError("unknown scenario '" + o->scenario + "' (known: settle)");

@@ -15,5 +15,6 @@ void addRunCommand(CLI::App& app, Action& action);
 void addBenchCommand(CLI::App& app, Action& action);
 void addScoreCommand(CLI::App& app, Action& action);
 void addReplayCommand(CLI::App& app, Action& action);
+void addIdentifyCommand(CLI::App& app, Action& action);
 
 }  // namespace colosim::app

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   colosim::app::addBenchCommand(app, action);
   colosim::app::addScoreCommand(app, action);
   colosim::app::addReplayCommand(app, action);
+  colosim::app::addIdentifyCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,194 @@
+#include "core/extended_tension_law.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/colon_step.h"
+#include "fixture.h"
+#include "trainer/assets.h"
+
+namespace colosim {
+namespace {
+
+ExtendedLawParams allEffects() {
+  ExtendedLawParams p;
+  for (const std::string& e : tensionEffectNames()) p.enable(e);
+  p.ea_N = 6, p.ec_Ns = 0.05, p.fung_b = 2.5, p.relax_g1 = 0.45, p.relax_tau1_s = 12;
+  p.soften_d_inf = 0.25, p.soften_a_c = 1.5, p.set_ratio = 0.1;
+  return p;
+}
+
+TEST(ExtendedTensionLaw, WithEveryEffectOffItIsTheVoigtLaw) {
+  ExtendedLawParams p;
+  p.ea_N = 28.9, p.ec_Ns = 0.05;
+  const ExtendedTensionLaw law(p);
+  const VoigtLaw voigt(28.9, 0.05);
+  EXPECT_EQ(law.name(), "voigt");
+  EXPECT_EQ(law.internalSize(), 0);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.5, 0.8);
+  for (int k = 0; k < 100; ++k) {
+    const double e = u(rng), r = u(rng);
+    const TensionResponse a = law.evaluate(e, r, 1e-3, nullptr), b = voigt.evaluate(e, r, 1e-3, nullptr);
+    EXPECT_EQ(a.force_N, b.force_N);
+    EXPECT_EQ(a.dforce_dstrain_N, b.dforce_dstrain_N);
+    EXPECT_EQ(a.dforce_dstrainrate_Ns, b.dforce_dstrainrate_Ns);
+    EXPECT_EQ(law.storedEnergy(e, nullptr), voigt.storedEnergy(e, nullptr));
+  }
+}
+
+TEST(ExtendedTensionLaw, TangentIsTheDerivativeOfTheForceOfTheStep) {
+  // The implicit step relies on dF/de: it must be the derivative of what evaluate() returns
+  // (with the internal variables of the step start), for every effect and their mix.
+  std::vector<ExtendedLawParams> laws;
+  for (const std::string& e : tensionEffectNames()) {
+    ExtendedLawParams p = allEffects();
+    p.strain_stiffening = e == "strain_stiffening";
+    p.stress_relaxation = e == "stress_relaxation";
+    p.cyclic_softening = e == "cyclic_softening";
+    p.permanent_set = e == "permanent_set";
+    laws.push_back(p);
+  }
+  laws.push_back(allEffects());
+  for (const ExtendedLawParams& p : laws) {
+    const ExtendedTensionLaw law(p);
+    std::vector<double> z(law.internalSize());
+    law.initInternal(z.data());
+    const double dt = 1e-3;
+    for (int k = 0; k < 3000; ++k) {
+      const double e = 0.4 * std::sin(0.002 * k) * std::sin(0.002 * k) + 0.02;
+      law.advance(e, 0, dt, z.data());
+    }
+    for (double e : {0.05, 0.2, 0.35, 0.5}) {
+      const double h = 1e-7;
+      const double fp = law.evaluate(e + h, 0.1, dt, z.data()).force_N;
+      const double fm = law.evaluate(e - h, 0.1, dt, z.data()).force_N;
+      const TensionResponse r = law.evaluate(e, 0.1, dt, z.data());
+      EXPECT_NEAR(r.dforce_dstrain_N, (fp - fm) / (2 * h), 1e-5 * std::abs(r.dforce_dstrain_N) + 1e-6)
+          << ExtendedTensionLaw(p).parameters().size() << " parameters, e = " << e;
+      EXPECT_GT(r.dforce_dstrain_N, 0.0);
+      EXPECT_DOUBLE_EQ(r.dforce_dstrainrate_Ns, p.ec_Ns);
+    }
+  }
+}
+
+TEST(ExtendedTensionLaw, FungCurveHasTheExponentialForm) {
+  ExtendedLawParams p;
+  p.enable("strain_stiffening");
+  p.ea_N = 6, p.ec_Ns = 0, p.fung_b = 2.5;
+  const ExtendedTensionLaw law(p);
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  for (double e : {0.1, 0.3, 0.6}) {
+    EXPECT_NEAR(law.evaluate(e, 0, 1e-3, z.data()).force_N, 6 / 2.5 * std::expm1(2.5 * e), 1e-12);
+    EXPECT_NEAR(law.storedEnergy(e, z.data()), 6 / 2.5 * (std::expm1(2.5 * e) / 2.5 - e), 1e-12);
+  }
+  EXPECT_NEAR(law.evaluate(-0.1, 0, 1e-3, z.data()).force_N, -0.6, 1e-12);  // linear in compression
+}
+
+TEST(ExtendedTensionLaw, RelaxationAtConstantLengthFollowsThePronySeries) {
+  // A fast ramp to e, then a hold: F(t) = Fe(e) (g_inf + g1 exp(-t / tau1)).
+  ExtendedLawParams p;
+  p.enable("stress_relaxation");
+  p.ea_N = 20, p.ec_Ns = 0, p.relax_g1 = 0.5, p.relax_tau1_s = 10;
+  const ExtendedTensionLaw law(p);
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  const double dt = 1e-3, e = 0.3;
+  for (int k = 1; k <= 10; ++k) law.advance(e * k / 10, 0, dt, z.data());  // 10 ms ramp
+  const double f0 = law.evaluate(e, 0, dt, z.data()).force_N;
+  for (int k = 0; k < 10000; ++k) law.advance(e, 0, dt, z.data());  // 10 s hold
+  const double f10 = law.evaluate(e, 0, dt, z.data()).force_N;
+  EXPECT_NEAR(f0, 20 * e * (0.5 + 0.5 * std::exp(-0.005 / 10)), 1e-3);
+  EXPECT_NEAR(f10 / f0, (0.5 + 0.5 * std::exp(-1.0)) / (0.5 + 0.5 * std::exp(-0.0005)), 1e-4);
+}
+
+TEST(ExtendedTensionLaw, PreconditioningSoftensRepeatedCyclesTowardsOneMinusDInf) {
+  ExtendedLawParams p;
+  p.enable("cyclic_softening");
+  p.ea_N = 20, p.ec_Ns = 0, p.soften_d_inf = 0.3, p.soften_a_c = 0.6;
+  const ExtendedTensionLaw law(p);
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  std::vector<double> peaks;
+  for (int c = 0; c < 15; ++c) {
+    for (int k = 1; k <= 100; ++k) law.advance(0.2 * k / 100, 0, 1e-2, z.data());
+    peaks.push_back(law.evaluate(0.2, 0, 1e-2, z.data()).force_N);
+    for (int k = 99; k >= 0; --k) law.advance(0.2 * k / 100, 0, 1e-2, z.data());
+  }
+  for (size_t c = 1; c < peaks.size(); ++c) EXPECT_LT(peaks[c], peaks[c - 1]);
+  // After 15 cycles a = 3 = 5 a_c: within 1 % of the equilibrium 0.7 EA e.
+  EXPECT_NEAR(peaks.back(), 0.7 * 20 * 0.2, 0.01 * 4);
+}
+
+TEST(ExtendedTensionLaw, AfterALargeStretchTheSampleIsSlackWhereItUsedToResist) {
+  ExtendedLawParams p;
+  p.enable("permanent_set");
+  p.ea_N = 20, p.ec_Ns = 0, p.set_ratio = 0.1;
+  const ExtendedTensionLaw law(p);
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  EXPECT_GT(law.evaluate(0.03, 0, 1e-3, z.data()).force_N, 0.0);  // virgin: resists at 3 %
+  for (int k = 1; k <= 100; ++k) law.advance(0.5 * k / 100, 0, 1e-3, z.data());
+  for (int k = 99; k >= 30; --k) law.advance(0.5 * k / 100, 0, 1e-3, z.data());
+  EXPECT_NEAR(law.evaluate(0.3, 0, 1e-3, z.data()).force_N, 20 * (0.3 - 0.05), 1e-9);
+  EXPECT_LT(law.evaluate(0.03, 0, 1e-3, z.data()).force_N, 0.0);  // longer now: no tension at 3 %
+}
+
+TEST(ExtendedTensionLaw, RejectsParametersOutOfRange) {
+  ExtendedLawParams p = allEffects();
+  p.relax_g1 = 1.2;
+  EXPECT_THROW(ExtendedTensionLaw{p}, std::invalid_argument);
+  p = allEffects();
+  p.ea_N = NAN;
+  EXPECT_THROW(ExtendedTensionLaw{p}, std::invalid_argument);
+  EXPECT_THROW(p.enable("viscoplasticity"), std::invalid_argument);
+}
+
+TEST(ExtendedTensionLaw, AdultColonWithEveryEffectStaysBoundedAtOneMillisecond) {
+  // The implicit step with an extended law: 4 s at dt = 1 ms, every effect on, at the
+  // paper's rigidity, with the caecal end pulled by a load cycling between 0 and 8 N
+  // (loading, holds in tension, unloading: the history variables all move, and the Fung
+  // tangent grows with the stretch).
+  Parameters prm = loadParameters(test::asset("params/default.json"));
+  const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
+  ExtendedLawParams p = allEffects();
+  p.ea_N = prm.colon.tension_EA_N;
+  p.ec_Ns = prm.colon.tension_EC_Ns;
+  p.relax_tau1_s = 0.5;
+  p.soften_a_c = 0.05;
+  const ColonModel m = buildColonModel(a, prm.colon, std::make_shared<ExtendedTensionLaw>(p));
+  ColonState s = makeColonState(m);
+  const Vec3 out = (m.q_rest.col(m.n - 1) - m.q_rest.col(m.n - 2)).normalized();
+  double max_strain = 0;
+  for (int k = 0; k < 4000; ++k) {
+    const double t = k * 1e-3;
+    s.loads.clear();
+    SplineLoad pull;
+    pull.segment = m.n - 2;
+    pull.p = 1.0;
+    pull.force_N = 4.0 * (1.0 - std::cos(2.0 * M_PI * t / 2.0)) * out;  // 0 .. 8 N, period 2 s
+    s.loads.push_back(pull);
+    stepColon(m, s, 1e-3);
+    ASSERT_TRUE(s.solver_ok);
+    ASSERT_TRUE(s.q.allFinite() && s.v.allFinite()) << "step " << k;
+    for (int e = 0; e + 1 < m.n; ++e) {
+      double strain, rate;
+      elementStrain(m, s, e, &strain, &rate);
+      max_strain = std::max(max_strain, strain);
+    }
+  }
+  for (double z : s.tension_internal) ASSERT_TRUE(std::isfinite(z));
+  double max_disp = 0;
+  for (int i = 0; i < m.n; ++i) max_disp = std::max(max_disp, (s.q.col(i) - m.q_rest.col(i)).norm());
+  EXPECT_GT(max_strain, 0.05);  // the effects were exercised
+  EXPECT_LT(max_strain, 1.0);
+  EXPECT_LT(max_disp, 0.3);
+  EXPECT_LT(s.v.cwiseAbs().maxCoeff(), 1.0);
+  std::printf("max element strain %.3f, max displacement %.3f m\n", max_strain, max_disp);
+}
+
+}  // namespace
+}  // namespace colosim

@@ -1,0 +1,57 @@
+// colosim identify DATA.csv [--json] [--report DIR] [--law-out FILE]: fits the paper's
+// Voigt law to a measured tension test, names the effects it misses, extends the law and
+// measures the gain (core/identify/identify.h; docs/identification.md).
+#include <iostream>
+
+#include "core/identify/identify.h"
+#include "core/identify/report.h"
+#include "trainer/app/commands.h"
+#include "trainer/tension_law_file.h"
+
+namespace colosim::app {
+
+namespace {
+
+struct IdentifyOptionsCli {
+  std::string data;
+  bool json = false;
+  std::string report;
+  std::string law_out;
+};
+
+int runIdentify(const IdentifyOptionsCli& o) {
+  // Everything is read and computed before anything is written: a bad file changes nothing.
+  const TensionTest test = readTensionTest(o.data);
+  const IdentifyResult r = identifyTension(test);
+  if (!o.law_out.empty()) {
+    std::vector<double> sd;
+    for (const ParamEstimate& p : r.extended.params)
+      if (p.name != "offset_N") sd.push_back(p.sd);
+    writeTensionLawFile(o.law_out, r.extended.law, sd, "colosim identify " + o.data);
+  }
+  if (!o.report.empty()) writeIdentifyReport(o.report, test, r);
+  if (o.json) {
+    std::cout << identifyJson(test, r).dump() << "\n";
+  } else {
+    std::cout << "colosim identify " << o.data << ": " << test.rows() << " rows, " << r.cycles << " loading cycles\n"
+              << r.diagnosis;
+    if (!o.law_out.empty()) std::cout << "Law written to " << o.law_out << " (colosim run --tension-law)\n";
+    if (!o.report.empty()) std::cout << "Report written to " << o.report << "/\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addIdentifyCommand(CLI::App& app, Action& action) {
+  auto o = std::make_shared<IdentifyOptionsCli>();
+  CLI::App* cmd = app.add_subcommand(
+      "identify", "Identify the colon's tension law from a measured tension test (CSV, docs/identification.md)");
+  cmd->add_option("DATA", o->data, "measurement file (# colosim-measurement v1, experiment: tension)")->required();
+  cmd->add_flag("--json", o->json, "print one JSON object on stdout instead of text");
+  cmd->add_option("--report", o->report, "write PNG plots (gnuplot) and the diagnosis into this folder");
+  cmd->add_option("--law-out", o->law_out, "write the identified law (JSON) for colosim run --tension-law");
+  cmd->callback([&action, o] { action = [o]() -> int { return runIdentify(*o); }; });
+}
+
+}  // namespace colosim::app
