@@ -1,0 +1,460 @@
+#include "render/renderer.h"
+
+#include <glad/gl.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "render/overlay_font.h"
+
+namespace colosim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Wall and scope. Modes: 0 onboard wall (texture, tip light), 1 onboard solid (scope),
+// 2 global wall (see-through), 3 global solid (scope, tip highlighted).
+const char* kSceneVs = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;   // [m], world
+layout(location = 1) in vec3 a_nrm;
+layout(location = 2) in vec2 a_uv;
+uniform mat4 u_view_proj;
+out vec3 v_pos;
+out vec3 v_nrm;
+out vec2 v_uv;
+void main() {
+  v_pos = a_pos;
+  v_nrm = a_nrm;
+  v_uv = a_uv;
+  gl_Position = u_view_proj * vec4(a_pos, 1.0);
+}
+)";
+
+const char* kSceneFs = R"(#version 330 core
+in vec3 v_pos;
+in vec3 v_nrm;
+in vec2 v_uv;
+uniform int u_mode;
+uniform vec3 u_eye;          // camera (and, onboard, tip light) position [m]
+uniform sampler2D u_tex;
+uniform vec3 u_color;
+uniform float u_light_ref;   // distance of unit irradiance [m]
+uniform float u_exposure;
+uniform vec2 u_alpha;        // global wall opacity: facing, grazing
+uniform vec3 u_tip_color;
+uniform vec3 u_tip_pos;      // [m]
+uniform float u_tip_len;     // [m]
+out vec4 o_color;
+void main() {
+  vec3 V = u_eye - v_pos;
+  float d = length(V);
+  V /= max(d, 1e-6);
+  vec3 N = normalize(v_nrm);
+  if (dot(N, V) < 0.0) N = -N;  // two-sided: the camera may see either face
+  float ndv = max(dot(N, V), 0.0);
+  if (u_mode <= 1) {
+    // Point light at the tip: irradiance falls off as 1 / d^2 (near wall bright, far
+    // lumen dark). Light and eye coincide, so the Blinn half vector is V: sharp wet
+    // highlights where the mucosa faces the tip, plus a broader sheen.
+    // Shading is done in linear light (the texture holds display values, gamma 2.2),
+    // tone mapped and gamma encoded at the end, as a camera's processor would.
+    vec3 albedo = pow(u_mode == 0 ? texture(u_tex, v_uv).rgb : u_color, vec3(2.2));
+    float E = (u_light_ref * u_light_ref) / (d * d + 1e-10);
+    float spec = u_mode == 0 ? 0.8 * pow(ndv, 120.0) + 0.05 * pow(ndv, 12.0)
+                             : 0.4 * pow(ndv, 30.0);
+    vec3 c = (albedo * ndv + vec3(spec)) * E;
+    c = vec3(1.0) - exp(-u_exposure * c);  // tone map: bright but never clipped flat
+    c = pow(c, vec3(1.0 / 2.2));
+    o_color = vec4(c, 1.0);
+  } else if (u_mode == 2) {
+    // X-ray look: faint where the wall faces the viewer, denser along the outline.
+    float g = 1.0 - ndv;
+    float a = mix(u_alpha.x, u_alpha.y, g * g * g);
+    o_color = vec4(u_color * (0.5 + 0.5 * ndv), a);
+  } else {
+    vec3 col = distance(v_pos, u_tip_pos) < u_tip_len ? u_tip_color : u_color;
+    o_color = vec4(col * (0.35 + 0.65 * ndv) + vec3(0.3 * pow(ndv, 40.0)), 1.0);
+  }
+}
+)";
+
+// Barrel distortion: full-screen pass over the rectilinear image. An output point at
+// normalised radius rho (1 at the corners) sees the angle theta = rho * theta_max
+// (equidistant lens), found in the rectilinear image at tan(theta) / tan(theta_max).
+const char* kPostVs = R"(#version 330 core
+out vec2 v_ndc;
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  v_ndc = p * 2.0 - 1.0;
+  gl_Position = vec4(v_ndc, 0.0, 1.0);
+}
+)";
+
+const char* kPostFs = R"(#version 330 core
+in vec2 v_ndc;
+uniform sampler2D u_src;
+uniform float u_aspect;      // width / height
+uniform float u_half_angle;  // half the diagonal field of view [rad]
+out vec4 o_color;
+void main() {
+  float diag = sqrt(1.0 + u_aspect * u_aspect);
+  vec2 q = v_ndc * vec2(u_aspect, 1.0) / diag;
+  float rho = length(q);
+  float scale = rho > 1e-6 ? tan(rho * u_half_angle) / (tan(u_half_angle) * rho)
+                           : u_half_angle / tan(u_half_angle);
+  vec2 src = q * scale * diag / vec2(u_aspect, 1.0);
+  o_color = vec4(texture(u_src, src * 0.5 + 0.5).rgb, 1.0);
+}
+)";
+
+// Overlay text: rectangles in viewport pixels (top-left origin), one colour.
+const char* kTextVs = R"(#version 330 core
+layout(location = 0) in vec2 a_px;
+uniform vec2 u_size;  // viewport size [px]
+void main() {
+  gl_Position = vec4(a_px.x / u_size.x * 2.0 - 1.0, 1.0 - a_px.y / u_size.y * 2.0, 0.0, 1.0);
+}
+)";
+
+const char* kTextFs = R"(#version 330 core
+uniform vec4 u_rgba;
+out vec4 o_color;
+void main() { o_color = u_rgba; }
+)";
+
+GLuint compile(GLenum type, const char* src) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw std::runtime_error(std::string("render: shader compile failed: ") + log);
+  }
+  return s;
+}
+
+GLuint link(const char* vs, const char* fs) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    throw std::runtime_error(std::string("render: shader link failed: ") + log);
+  }
+  return p;
+}
+
+struct MeshBuffers {
+  GLuint vao = 0, vbo = 0, ebo = 0;
+  GLsizei index_count = 0;
+
+  void create() {
+    glGenVertexArrays(1, &vao);
+    glGenBuffers(1, &vbo);
+    glGenBuffers(1, &ebo);
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+    const GLsizei stride = TubeMesh::kFloatsPerVertex * sizeof(float);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(6 * sizeof(float)));
+    glBindVertexArray(0);
+  }
+  void upload(const TubeMesh& m) {
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, m.vertices.size() * sizeof(float), m.vertices.data(), GL_STREAM_DRAW);
+    glBindVertexArray(vao);  // the element buffer binding is VAO state
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
+                 GL_STREAM_DRAW);
+    glBindVertexArray(0);
+    index_count = static_cast<GLsizei>(m.indices.size());
+  }
+  void draw() const {
+    glBindVertexArray(vao);
+    glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+  }
+  void destroy() {
+    glDeleteBuffers(1, &vbo);
+    glDeleteBuffers(1, &ebo);
+    glDeleteVertexArrays(1, &vao);
+  }
+};
+
+void setMat4(GLuint prog, const char* name, const Mat4f& m) {
+  glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_FALSE, m.data());  // column-major
+}
+
+void setVec3(GLuint prog, const char* name, const Vec3& v) {
+  glUniform3f(glGetUniformLocation(prog, name), static_cast<float>(v.x()), static_cast<float>(v.y()),
+              static_cast<float>(v.z()));
+}
+
+void setVec3(GLuint prog, const char* name, const std::array<float, 3>& v) {
+  glUniform3f(glGetUniformLocation(prog, name), v[0], v[1], v[2]);
+}
+
+void useViewport(const Viewport& vp) {
+  glViewport(vp.x, vp.y, vp.width, vp.height);
+  glScissor(vp.x, vp.y, vp.width, vp.height);
+  glEnable(GL_SCISSOR_TEST);  // clear only this view (split screens)
+}
+
+}  // namespace
+
+struct Renderer::Gl {
+  GLuint scene = 0, post = 0, text = 0;
+  GLuint texture = 0;
+  MeshBuffers colon, scope;
+  GLuint text_vao = 0, text_vbo = 0;
+  GLuint post_vao = 0;
+  // Rectilinear render target of the barrel-distortion pass, resized on demand.
+  GLuint fbo = 0, fbo_color = 0, fbo_depth = 0;
+  int fbo_w = 0, fbo_h = 0;
+
+  void ensureFbo(int w, int h) {
+    if (fbo && fbo_w == w && fbo_h == h) return;
+    if (!fbo) {
+      glGenFramebuffers(1, &fbo);
+      glGenTextures(1, &fbo_color);
+      glGenRenderbuffers(1, &fbo_depth);
+    }
+    glBindTexture(GL_TEXTURE_2D, fbo_color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindRenderbuffer(GL_RENDERBUFFER, fbo_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, fbo_color, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, fbo_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("render: the distortion framebuffer is incomplete");
+    fbo_w = w, fbo_h = h;
+  }
+};
+
+Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
+    : tube_(tube), gl_(std::make_unique<Gl>()) {
+  if (!glCreateShader)
+    throw std::runtime_error("render: no GL loaded (make an OffscreenContext or Window first)");
+  gl_->scene = link(kSceneVs, kSceneFs);
+  gl_->post = link(kPostVs, kPostFs);
+  gl_->text = link(kTextVs, kTextFs);
+  gl_->colon.create();
+  gl_->scope.create();
+  glGenVertexArrays(1, &gl_->post_vao);
+  glGenVertexArrays(1, &gl_->text_vao);
+  glGenBuffers(1, &gl_->text_vbo);
+  glBindVertexArray(gl_->text_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, gl_->text_vbo);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+  glBindVertexArray(0);
+
+  const Image tex = makeMucosaTexture(mucosa);
+  glGenTextures(1, &gl_->texture);
+  glBindTexture(GL_TEXTURE_2D, gl_->texture);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tex.width, tex.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               tex.rgba.data());
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+Renderer::~Renderer() {
+  if (!glDeleteProgram) return;
+  glDeleteProgram(gl_->scene);
+  glDeleteProgram(gl_->post);
+  glDeleteProgram(gl_->text);
+  gl_->colon.destroy();
+  gl_->scope.destroy();
+  glDeleteVertexArrays(1, &gl_->post_vao);
+  glDeleteVertexArrays(1, &gl_->text_vao);
+  glDeleteBuffers(1, &gl_->text_vbo);
+  glDeleteTextures(1, &gl_->texture);
+  if (gl_->fbo) {
+    glDeleteFramebuffers(1, &gl_->fbo);
+    glDeleteTextures(1, &gl_->fbo_color);
+    glDeleteRenderbuffers(1, &gl_->fbo_depth);
+  }
+}
+
+void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope) {
+  sampleColonRings(model, q, tube_, rings_);
+  buildColonMesh(rings_, tube_, colon_mesh_);
+  gl_->colon.upload(colon_mesh_);
+  if (scope.centreline_m.size() >= 2) {
+    buildScopeMesh(scope, tube_, scope_mesh_);
+    gl_->scope.upload(scope_mesh_);
+  } else {
+    scope_mesh_ = TubeMesh{};
+    gl_->scope.index_count = 0;  // no scope yet (e.g. before insertion)
+  }
+}
+
+void Renderer::drawOnboard(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                           const CameraPose& camera, const Viewport& vp, const OnboardOptics& optics) {
+  if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
+  uploadMeshes(model, q, scope);
+  GLint target = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+  if (optics.barrel_distortion) {
+    gl_->ensureFbo(vp.width, vp.height);
+    glBindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
+    glDisable(GL_SCISSOR_TEST);
+    glViewport(0, 0, vp.width, vp.height);
+  } else {
+    useViewport(vp);
+  }
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+
+  const double aspect = static_cast<double>(vp.width) / vp.height;
+  const double fov_y = verticalFovFromDiagonal(optics.fov_diagonal_deg * kPi / 180, aspect);
+  const Mat4f vp_mat = perspectiveMatrix(fov_y, aspect, optics.near_m, optics.far_m) * viewMatrix(camera);
+  const GLuint p = gl_->scene;
+  glUseProgram(p);
+  setMat4(p, "u_view_proj", vp_mat);
+  setVec3(p, "u_eye", camera.p_WC_m);
+  glUniform1f(glGetUniformLocation(p, "u_light_ref"), static_cast<float>(optics.light_ref_m));
+  glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, gl_->texture);
+  glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+  glUniform1i(glGetUniformLocation(p, "u_mode"), 0);
+  gl_->colon.draw();
+  if (gl_->scope.index_count > 0) {
+    glUniform1i(glGetUniformLocation(p, "u_mode"), 1);
+    setVec3(p, "u_color", std::array<float, 3>{0.12f, 0.12f, 0.13f});  // black insertion tube
+    gl_->scope.draw();
+  }
+
+  if (optics.barrel_distortion) {
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target));
+    useViewport(vp);
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(gl_->post);
+    glBindTexture(GL_TEXTURE_2D, gl_->fbo_color);
+    glUniform1i(glGetUniformLocation(gl_->post, "u_src"), 0);
+    glUniform1f(glGetUniformLocation(gl_->post, "u_aspect"), static_cast<float>(aspect));
+    glUniform1f(glGetUniformLocation(gl_->post, "u_half_angle"),
+                static_cast<float>(0.5 * optics.fov_diagonal_deg * kPi / 180));
+    glBindVertexArray(gl_->post_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+  }
+  glDisable(GL_SCISSOR_TEST);
+  glUseProgram(0);
+}
+
+void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                          const OrbitCamera& camera, const Viewport& vp, const GlobalStyle& style) {
+  if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
+  uploadMeshes(model, q, scope);
+  useViewport(vp);
+  glClearColor(style.background[0], style.background[1], style.background[2], 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+
+  const CameraPose pose = camera.pose();
+  const double aspect = static_cast<double>(vp.width) / vp.height;
+  const Mat4f vp_mat = perspectiveMatrix(camera.fov_y_deg * kPi / 180, aspect, 0.05 * camera.distance_m,
+                                         4 * camera.distance_m + 1.0) * viewMatrix(pose);
+  const GLuint p = gl_->scene;
+  glUseProgram(p);
+  setMat4(p, "u_view_proj", vp_mat);
+  setVec3(p, "u_eye", pose.p_WC_m);
+  // The scope first, opaque, writing depth; then the colon blended over it without
+  // writing depth, so every wall layer shows and nothing hides the scope.
+  if (gl_->scope.index_count > 0) {
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    glUniform1i(glGetUniformLocation(p, "u_mode"), 3);
+    setVec3(p, "u_color", style.scope_rgb);
+    setVec3(p, "u_tip_color", style.tip_rgb);
+    setVec3(p, "u_tip_pos", scope.centreline_m.back());
+    glUniform1f(glGetUniformLocation(p, "u_tip_len"), static_cast<float>(style.tip_length_m));
+    gl_->scope.draw();
+  }
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  glUniform1i(glGetUniformLocation(p, "u_mode"), 2);
+  setVec3(p, "u_color", style.colon_rgb);
+  glUniform2f(glGetUniformLocation(p, "u_alpha"), style.colon_alpha_face, style.colon_alpha_silhouette);
+  gl_->colon.draw();
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glUseProgram(0);
+}
+
+void Renderer::drawText(const std::string& text, int x_px, int y_px, int scale,
+                        const std::array<float, 4>& rgba, const Viewport& vp) {
+  const std::vector<float> tris = textTriangles(text, x_px, y_px, scale);
+  if (tris.empty()) return;
+  useViewport(vp);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glUseProgram(gl_->text);
+  glUniform2f(glGetUniformLocation(gl_->text, "u_size"), static_cast<float>(vp.width),
+              static_cast<float>(vp.height));
+  glUniform4f(glGetUniformLocation(gl_->text, "u_rgba"), rgba[0], rgba[1], rgba[2], rgba[3]);
+  glBindVertexArray(gl_->text_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, gl_->text_vbo);
+  glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_STREAM_DRAW);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(tris.size() / 2));
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glUseProgram(0);
+}
+
+Image readFramebuffer(const Viewport& vp) {
+  Image img(vp.width, vp.height);
+  std::vector<uint8_t> rows(img.rgba.size());
+  glFinish();
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  const size_t stride = static_cast<size_t>(vp.width) * 4;
+  for (int y = 0; y < vp.height; ++y)  // GL rows come bottom-up
+    std::copy_n(&rows[(vp.height - 1 - y) * stride], stride, img.at(0, y));
+  return img;
+}
+
+std::vector<unsigned> drainGlErrors() {
+  std::vector<unsigned> errors;
+  for (GLenum e = glGetError(); e != GL_NO_ERROR && errors.size() < 64; e = glGetError())
+    errors.push_back(e);
+  return errors;
+}
+
+}  // namespace colosim
