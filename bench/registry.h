@@ -28,5 +28,6 @@ const std::vector<BenchEntry>& benchmarks();
 
 // One function per benchmark, each in its own file.
 BenchOutput benchColon();
+BenchOutput benchRender();
 
 }  // namespace colosim

@@ -26,9 +26,9 @@ CameraPose lookAlong(const Vec3& position_m, const Vec3& forward, const Vec3& up
 struct OnboardOptics {
   double fov_diagonal_deg = 140;   ///< field of view across the image diagonal [deg]
   double near_m = 0.001;           ///< near clip plane [m]
-  double far_m = 0.6;              ///< far clip plane [m]
+  double far_m = 0.3;              ///< far clip plane [m]; the tip light fades out before it
   double light_ref_m = 0.02;       ///< distance at which the tip light gives unit irradiance [m]
-  double exposure = 1.6;           ///< scales the irradiance before tone mapping [-]
+  double exposure = 2.5;           ///< scales the irradiance before tone mapping [-]
   bool barrel_distortion = true;   ///< equidistant fisheye-like barrel distortion
 };
 

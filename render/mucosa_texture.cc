@@ -93,7 +93,7 @@ Image makeMucosaTexture(const MucosaOptions& options) {
       const double u = static_cast<double>(x) / N, v = static_cast<double>(y) / N;
       // Mucosa: salmon pink with gentle mottling and fine granularity.
       const double m = 0.07 * coarse(u, v) + 0.04 * fine(u, v) + 0.025 * speck(u, v);
-      double r = 0.86 + m, g = 0.47 + 0.8 * m, b = 0.42 + 0.6 * m;
+      double r = 0.88 + m, g = 0.42 + 0.8 * m, b = 0.35 + 0.6 * m;
       // Vessels: deep red-violet, stronger for the larger ones.
       const double a = 0.6 * vessel[static_cast<size_t>(y) * N + x];
       r = r + a * (0.55 - r);

@@ -12,7 +12,7 @@ namespace colosim {
 
 struct MucosaOptions {
   int size_px = 512;         ///< the texture is size x size pixels
-  int vessel_count = 14;     ///< root vessels; each branches
+  int vessel_count = 9;      ///< root vessels; each branches
   uint32_t seed = 20260217;  ///< std::mt19937 seed: same seed, same bytes
 };
 

@@ -40,6 +40,7 @@ uniform vec3 u_eye;          // camera (and, onboard, tip light) position [m]
 uniform sampler2D u_tex;
 uniform vec3 u_color;
 uniform float u_light_ref;   // distance of unit irradiance [m]
+uniform float u_far;         // onboard far plane [m]: the light fades to nothing before it
 uniform float u_exposure;
 uniform vec2 u_alpha;        // global wall opacity: facing, grazing
 uniform vec3 u_tip_color;
@@ -57,15 +58,23 @@ void main() {
     // Point light at the tip: irradiance falls off as 1 / d^2 (near wall bright, far
     // lumen dark). Light and eye coincide, so the Blinn half vector is V: sharp wet
     // highlights where the mucosa faces the tip, plus a broader sheen.
-    // Shading is done in linear light (the texture holds display values, gamma 2.2),
-    // tone mapped and gamma encoded at the end, as a camera's processor would.
-    vec3 albedo = pow(u_mode == 0 ? texture(u_tex, v_uv).rgb : u_color, vec3(2.2));
+    // Shading is done in linear light (the texture holds display values; gamma 2 is
+    // close enough to 2.2 and costs a multiply, which matters on llvmpipe), tone mapped
+    // and gamma encoded at the end, as a camera's processor would.
+    vec3 t = u_mode == 0 ? texture(u_tex, v_uv).rgb : u_color;
+    vec3 albedo = t * t;
     float E = (u_light_ref * u_light_ref) / (d * d + 1e-10);
-    float spec = u_mode == 0 ? 0.8 * pow(ndv, 120.0) + 0.05 * pow(ndv, 12.0)
-                             : 0.4 * pow(ndv, 30.0);
-    vec3 c = (albedo * ndv + vec3(spec)) * E;
-    c = vec3(1.0) - exp(-u_exposure * c);  // tone map: bright but never clipped flat
-    c = pow(c, vec3(1.0 / 2.2));
+    // Beyond ~0.7 far the 1 / d^2 light is already below 1 % of its reference; fading it
+    // to zero at the far plane hides the cut, so the colon beyond need not be drawn.
+    E *= 1.0 - smoothstep(0.7 * u_far, u_far, d);
+    // Specular lobes ndv^128 (sharp wet glints) and ndv^16 (sheen) by repeated squaring.
+    float n2 = ndv * ndv, n4 = n2 * n2, n8 = n4 * n4, n16 = n8 * n8, n32 = n16 * n16;
+    float n128 = n32 * n32 * n32 * n32;
+    float spec = u_mode == 0 ? 0.8 * n128 + 0.05 * n16 : 0.4 * n32;
+    // A little wrap-around light (0.15) keeps fold silhouettes from going pitch black.
+    vec3 c = u_exposure * (albedo * (0.15 + 0.85 * ndv) + vec3(spec)) * E;
+    c = c / (1.0 + c);  // tone map: bright but never clipped flat
+    c = sqrt(c);
     o_color = vec4(c, 1.0);
   } else if (u_mode == 2) {
     // X-ray look: faint where the wall faces the viewer, denser along the outline.
@@ -160,6 +169,7 @@ GLuint link(const char* vs, const char* fs) {
 struct MeshBuffers {
   GLuint vao = 0, vbo = 0, ebo = 0;
   GLsizei index_count = 0;
+  std::vector<uint32_t> uploaded_indices;  // what the element buffer holds (re-sent only on change)
 
   void create() {
     glGenVertexArrays(1, &vao);
@@ -180,15 +190,26 @@ struct MeshBuffers {
   void upload(const TubeMesh& m) {
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, m.vertices.size() * sizeof(float), m.vertices.data(), GL_STREAM_DRAW);
-    glBindVertexArray(vao);  // the element buffer binding is VAO state
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
-                 GL_STREAM_DRAW);
-    glBindVertexArray(0);
+    if (m.indices != uploaded_indices) {  // the topology rarely changes between frames
+      glBindVertexArray(vao);  // the element buffer binding is VAO state
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
+                   GL_STATIC_DRAW);
+      glBindVertexArray(0);
+      uploaded_indices = m.indices;
+    }
     index_count = static_cast<GLsizei>(m.indices.size());
   }
   void draw() const {
     glBindVertexArray(vao);
     glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+  }
+  // Draws runs of ring strips, each `strip_indices` indices long.
+  void drawRuns(const std::vector<StripRun>& runs, int strip_indices) const {
+    glBindVertexArray(vao);
+    for (const StripRun& r : runs)
+      glDrawElements(GL_TRIANGLES, (r.end - r.first) * strip_indices, GL_UNSIGNED_INT,
+                     reinterpret_cast<void*>(static_cast<size_t>(r.first) * strip_indices * sizeof(uint32_t)));
     glBindVertexArray(0);
   }
   void destroy() {
@@ -277,7 +298,7 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tex.width, tex.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                tex.rgba.data());
   glGenerateMipmap(GL_TEXTURE_2D);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
@@ -344,11 +365,15 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   setVec3(p, "u_eye", camera.p_WC_m);
   glUniform1f(glGetUniformLocation(p, "u_light_ref"), static_cast<float>(optics.light_ref_m));
   glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
+  glUniform1f(glGetUniformLocation(p, "u_far"), static_cast<float>(optics.far_m));
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, gl_->texture);
   glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
   glUniform1i(glGetUniformLocation(p, "u_mode"), 0);
-  gl_->colon.draw();
+  std::vector<StripRun> runs;
+  visibleStrips(rings_, camera.p_WC_m, camera.R_WC.col(2), optics.far_m,
+                0.5 * optics.fov_diagonal_deg * kPi / 180, runs);
+  gl_->colon.drawRuns(runs, 6 * (colon_mesh_.ring_vertices - 1));
   if (gl_->scope.index_count > 0) {
     glUniform1i(glGetUniformLocation(p, "u_mode"), 1);
     setVec3(p, "u_color", std::array<float, 3>{0.12f, 0.12f, 0.13f});  // black insertion tube

@@ -126,13 +126,22 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
     const double th = 2 * kPi * (j % sides) / sides;  // the seam vertex repeats j = 0 exactly
     c[j] = std::cos(th), s[j] = std::sin(th);
   }
+  // haustralRadius factorised: the fold profile per ring, the taenia factor per side
+  // (exp and sin once per ring and side, not per vertex: this runs every frame).
+  std::vector<double> taenia(rv);
+  for (int j = 0; j < rv; ++j) {
+    const double sn = std::sin(1.5 * 2 * kPi * (j % sides) / sides);
+    taenia[j] = 0.35 + 0.65 * sn * sn;
+  }
   for (int i = 0; i < count; ++i) {
     const CurveFrame& f = rings.frame[i];
     const float v = static_cast<float>(rings.s_rest_m[i] / options.texture_tile_m);
+    // fold = depth * w * exp(-(d / width)^2), so r = R (1 - fold * taenia_j) as in haustralRadius.
+    const double fold = haustralRadius(1.0, rings.s_rest_m[i], 0.5 * kPi / 1.5, rings.fold_weight[i], options);
+    const double fold_amount = 1.0 - fold;  // at theta where taenia = 1
+    const double R = rings.radius_m[i];
     for (int j = 0; j < rv; ++j) {
-      const double th = 2 * kPi * (j % sides) / sides;
-      const double r = haustralRadius(rings.radius_m[i], rings.s_rest_m[i], th,
-                                      rings.fold_weight[i], options);
+      const double r = R * (1 - fold_amount * taenia[j]);
       const Vec3 p = rings.centre_m[i] + r * (c[j] * f.r + s[j] * f.s);
       float* dst = &mesh.vertices[8 * (static_cast<size_t>(i) * rv + j)];
       dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()), dst[2] = static_cast<float>(p.z());
@@ -150,6 +159,33 @@ void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions&
   ColonRings rings;
   sampleColonRings(model, q, options, rings);
   buildColonMesh(rings, options, mesh);
+}
+
+void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,
+                   double half_fov_rad, std::vector<StripRun>& runs) {
+  runs.clear();
+  const int count = static_cast<int>(rings.centre_m.size());
+  const double cos_fov = std::cos(half_fov_rad), sin_fov = std::sin(half_fov_rad);
+  auto visible = [&](int i) {
+    const Vec3 d = rings.centre_m[i] - eye_m;
+    const double r = rings.radius_m[i];  // folds only narrow the ring: r bounds it
+    const double dist = d.norm();
+    if (dist > far_m + r) return false;
+    if (dist <= r) return true;  // the camera is inside this ring's sphere
+    // Inside the cone widened by the ring's bounding sphere: the axis angle of d is at
+    // most half_fov + asin(r / dist), i.e. cos(angle) >= cos(half_fov + asin(r / dist)).
+    const double sa = r / dist, ca = std::sqrt(1 - sa * sa);
+    return d.dot(forward) >= dist * (cos_fov * ca - sin_fov * sa);
+  };
+  bool prev = count > 0 && visible(0);
+  for (int i = 0; i + 1 < count; ++i) {
+    const bool next = visible(i + 1);
+    if (prev || next) {
+      if (!runs.empty() && runs.back().end == i) ++runs.back().end;
+      else runs.push_back({i, i + 1});
+    }
+    prev = next;
+  }
 }
 
 void buildScopeMesh(const ScopeShape& scope, const TubeOptions& options, TubeMesh& mesh) {

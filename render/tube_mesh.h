@@ -20,8 +20,8 @@ struct ScopeShape {
 
 /// Tunables of the tube meshes; defaults are what the views use.
 struct TubeOptions {
-  int samples_per_segment = 10;  ///< rings per spline segment (1.5 mm apart at 1.5 cm spacing)
-  int sides = 40;                ///< facets around the colon
+  int samples_per_segment = 8;   ///< rings per spline segment (1.9 mm apart at 1.5 cm spacing)
+  int sides = 32;                ///< facets around the colon
   int scope_sides = 16;          ///< facets around the scope
   bool haustra = true;           ///< haustral folds (never in the rectum)
   double fold_period_m = 0.03;   ///< rest arclength between two haustral folds [m]
@@ -77,6 +77,19 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
 /// sampleColonRings then buildColonMesh.
 void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options,
                     TubeMesh& mesh);
+
+/// A run of consecutive strips [first, end) between rings (strip i joins ring i to i + 1).
+struct StripRun {
+  int first = 0, end = 0;
+};
+
+/// The strips of the colon mesh an onboard camera at eye_m looking along `forward` (unit)
+/// with half field of view half_fov_rad (across the diagonal) can see: those with a ring
+/// closer than far_m and inside the view cone, both widened by the ring's radius. A cheap
+/// CPU cull so llvmpipe does not set up triangles it would clip. [out] runs, merged
+/// where consecutive.
+void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,
+                   double half_fov_rad, std::vector<StripRun>& runs);
 
 /// The scope as a tube along its centreline, closed at the tip. Throws
 /// std::invalid_argument for fewer than two points, a non-positive radius or NaN.

@@ -24,7 +24,9 @@ TEST(Frames, AdultAnatomyTurnsSmoothlyWithoutTwistOrFlip) {
   const Parameters params = loadParameters(test::asset("params/default.json"));
   const ColonModel model = loadColonModel(test::asset("anatomy/adult.json"), params);
   ColonRings rings;
-  sampleColonRings(model, model.q_rest, TubeOptions{}, rings);
+  TubeOptions options;
+  options.samples_per_segment = 10;  // rings 1.5 mm apart
+  sampleColonRings(model, model.q_rest, options, rings);
   ASSERT_EQ(rings.frame.size(), static_cast<size_t>((model.n - 1) * 10 + 1));
   double max_turn = 0, max_excess = 0;
   for (size_t i = 0; i + 1 < rings.frame.size(); ++i) {

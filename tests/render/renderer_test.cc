@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <deque>
 #include <memory>
@@ -80,8 +81,9 @@ TEST_F(RenderTest, OnboardStraightColonDarkCentreBrightRing) {
     dump(img, barrel ? "onboard_straight" : "onboard_straight_rectilinear");
     const double centre = meanInAnnulus(img, 0, 0.12);
     const double ring = meanInAnnulus(img, 0.55, 0.95);
-    EXPECT_LT(centre, 0.08) << "barrel " << barrel;
-    EXPECT_GT(ring, 0.25) << "barrel " << barrel;
+    // The centre looks 0.3 m down the lumen: a few % of the near wall's light.
+    EXPECT_LT(centre, 0.1) << "barrel " << barrel;
+    EXPECT_GT(ring, 0.3) << "barrel " << barrel;
     EXPECT_GT(ring, 5 * centre) << "barrel " << barrel;
     // Brightness rises monotonically from the centre outwards (annuli of 0.15 half-heights).
     double prev = -1;

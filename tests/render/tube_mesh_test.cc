@@ -113,6 +113,42 @@ TEST_F(AdultMesh, TextureDoesNotSwimWhenStretched) {
   EXPECT_NEAR(rest.v(last), model_->length_m() / opt.texture_tile_m, 1e-4);
 }
 
+// The CPU cull never drops a strip the camera could see: brute force over every vertex
+// of every culled strip, from cameras all along the colon looking both ways.
+TEST_F(AdultMesh, VisibleStripsKeepsEverythingInView) {
+  const TubeOptions opt;
+  ColonRings rings;
+  sampleColonRings(*model_, model_->q_rest, opt, rings);
+  TubeMesh mesh;
+  buildColonMesh(rings, opt, mesh);
+  const double far_m = 0.3, half_fov = 70 * kPi / 180;
+  std::vector<StripRun> runs;
+  int culled_total = 0;
+  for (size_t k = 5; k < rings.centre_m.size(); k += 97) {
+    for (double dir : {1.0, -1.0}) {
+      const Vec3 eye = rings.centre_m[k] + 0.5 * rings.radius_m[k] * rings.frame[k].r;
+      const Vec3 fwd = dir * rings.frame[k].t;
+      visibleStrips(rings, eye, fwd, far_m, half_fov, runs);
+      std::vector<char> kept(mesh.rings - 1, 0);
+      for (const StripRun& r : runs) {
+        ASSERT_LT(r.first, r.end);
+        for (int i = r.first; i < r.end; ++i) kept[i] = 1;
+      }
+      for (int i = 0; i + 1 < mesh.rings; ++i) {
+        if (kept[i]) continue;
+        ++culled_total;
+        for (int ring : {i, i + 1})
+          for (int j = 0; j < mesh.ring_vertices; ++j) {
+            const Vec3 d = mesh.position(ring * mesh.ring_vertices + j) - eye;
+            const bool in_view = d.norm() < far_m && d.dot(fwd) > d.norm() * std::cos(half_fov);
+            ASSERT_FALSE(in_view) << "strip " << i << " culled but vertex " << j << " is in view";
+          }
+      }
+    }
+  }
+  EXPECT_GT(culled_total, 1000) << "the cull should drop something";
+}
+
 TEST(TubeMesh, RejectsBadControlPoints) {
   const ColonModel model = test::straightColon();
   TubeMesh mesh;
