@@ -48,12 +48,13 @@ uniform vec3 u_tip_pos;      // [m]
 uniform float u_tip_len;     // [m]
 out vec4 o_color;
 void main() {
+  // inversesqrt rather than length, normalize and divisions: llvmpipe runs this per pixel.
   vec3 V = u_eye - v_pos;
-  float d = length(V);
-  V /= max(d, 1e-6);
-  vec3 N = normalize(v_nrm);
-  if (dot(N, V) < 0.0) N = -N;  // two-sided: the camera may see either face
-  float ndv = max(dot(N, V), 0.0);
+  float d2 = dot(V, V);
+  float inv_d = inversesqrt(max(d2, 1e-12));
+  V *= inv_d;
+  vec3 N = v_nrm * inversesqrt(dot(v_nrm, v_nrm));
+  float ndv = abs(dot(N, V));  // two-sided: the camera may see either face
   if (u_mode <= 1) {
     // Point light at the tip: irradiance falls off as 1 / d^2 (near wall bright, far
     // lumen dark). Light and eye coincide, so the Blinn half vector is V: sharp wet
@@ -63,7 +64,8 @@ void main() {
     // and gamma encoded at the end, as a camera's processor would.
     vec3 t = u_mode == 0 ? texture(u_tex, v_uv).rgb : u_color;
     vec3 albedo = t * t;
-    float E = (u_light_ref * u_light_ref) / (d * d + 1e-10);
+    float E = u_light_ref * u_light_ref * inv_d * inv_d;
+    float d = d2 * inv_d;
     // Beyond ~0.7 far the 1 / d^2 light is already below 1 % of its reference; fading it
     // to zero at the far plane hides the cut, so the colon beyond need not be drawn.
     E *= 1.0 - smoothstep(0.7 * u_far, u_far, d);
