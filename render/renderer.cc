@@ -245,7 +245,7 @@ void useViewport(const Viewport& vp) {
 struct Renderer::Gl {
   GLuint scene = 0, post = 0, text = 0;
   GLuint texture = 0;
-  MeshBuffers colon, scope;
+  MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
   GLuint text_vao = 0, text_vbo = 0;
   GLuint post_vao = 0;
   // Rectilinear render target of the barrel-distortion pass, resized on demand.
@@ -284,6 +284,7 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
   gl_->post = link(kPostVs, kPostFs);
   gl_->text = link(kTextVs, kTextFs);
   gl_->colon.create();
+  gl_->colon_global.create();
   gl_->scope.create();
   glGenVertexArrays(1, &gl_->post_vao);
   glGenVertexArrays(1, &gl_->text_vao);
@@ -312,6 +313,7 @@ Renderer::~Renderer() {
   glDeleteProgram(gl_->post);
   glDeleteProgram(gl_->text);
   gl_->colon.destroy();
+  gl_->colon_global.destroy();
   gl_->scope.destroy();
   glDeleteVertexArrays(1, &gl_->post_vao);
   glDeleteVertexArrays(1, &gl_->text_vao);
@@ -324,12 +326,13 @@ Renderer::~Renderer() {
   }
 }
 
-void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope) {
-  sampleColonRings(model, q, tube_, rings_);
-  buildColonMesh(rings_, tube_, colon_mesh_);
-  gl_->colon.upload(colon_mesh_);
+void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                            const TubeOptions& options, bool global) {
+  sampleColonRings(model, q, options, rings_);
+  buildColonMesh(rings_, options, colon_mesh_);
+  (global ? gl_->colon_global : gl_->colon).upload(colon_mesh_);
   if (scope.centreline_m.size() >= 2) {
-    buildScopeMesh(scope, tube_, scope_mesh_);
+    buildScopeMesh(scope, options, scope_mesh_);
     gl_->scope.upload(scope_mesh_);
   } else {
     scope_mesh_ = TubeMesh{};
@@ -340,7 +343,7 @@ void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const Scop
 void Renderer::drawOnboard(const ColonModel& model, const Points& q, const ScopeShape& scope,
                            const CameraPose& camera, const Viewport& vp, const OnboardOptics& optics) {
   if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
-  uploadMeshes(model, q, scope);
+  uploadMeshes(model, q, scope, tube_, /*global=*/false);
   GLint target = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
   if (optics.barrel_distortion) {
@@ -403,7 +406,11 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
 void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,
                           const OrbitCamera& camera, const Viewport& vp, const GlobalStyle& style) {
   if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
-  uploadMeshes(model, q, scope);
+  TubeOptions coarse = tube_;
+  coarse.sides = style.colon_sides;
+  coarse.samples_per_segment = style.colon_samples_per_segment;
+  coarse.haustra = false;
+  uploadMeshes(model, q, scope, coarse, /*global=*/true);
   useViewport(vp);
   glClearColor(style.background[0], style.background[1], style.background[2], 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -436,7 +443,7 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   glUniform1i(glGetUniformLocation(p, "u_mode"), 2);
   setVec3(p, "u_color", style.colon_rgb);
   glUniform2f(glGetUniformLocation(p, "u_alpha"), style.colon_alpha_face, style.colon_alpha_silhouette);
-  gl_->colon.draw();
+  gl_->colon_global.draw();
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);

@@ -34,6 +34,9 @@ struct GlobalStyle {
   std::array<float, 3> scope_rgb{0.15f, 0.95f, 0.35f};  ///< distinct, opaque
   std::array<float, 3> tip_rgb{1.0f, 0.85f, 0.1f};      ///< the last few cm of the scope
   double tip_length_m = 0.03;
+  // The outside view needs no fine detail: a coarser colon without folds keeps it cheap.
+  int colon_sides = 16;              ///< facets around the colon
+  int colon_samples_per_segment = 4; ///< rings per spline segment
 };
 
 class Renderer {
@@ -70,14 +73,15 @@ class Renderer {
   void drawText(const std::string& text, int x_px, int y_px, int scale,
                 const std::array<float, 4>& rgba, const Viewport& viewport);
 
-  /// The last meshes built (for inspection and tests).
+  /// The last meshes built (for inspection and tests; the colon of the last view drawn).
   const TubeMesh& colonMesh() const { return colon_mesh_; }
   const TubeMesh& scopeMesh() const { return scope_mesh_; }
   const TubeOptions& tubeOptions() const { return tube_; }
 
  private:
   struct Gl;
-  void uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope);
+  void uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                    const TubeOptions& options, bool global);
   TubeOptions tube_;
   ColonRings rings_;
   TubeMesh colon_mesh_, scope_mesh_;
