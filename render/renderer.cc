@@ -13,7 +13,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Wall and scope. Modes: 0 onboard wall (texture, tip light), 1 onboard solid (scope),
+// Wall and scope. MODE (a #define, one program per mode: a uniform branch costs llvmpipe
+// both sides per pixel): 0 onboard wall (texture, tip light), 1 onboard solid (scope),
 // 2 global wall (see-through), 3 global solid (scope, tip highlighted).
 const char* kSceneVs = R"(#version 330 core
 layout(location = 0) in vec3 a_pos;   // [m], world
@@ -31,11 +32,10 @@ void main() {
 }
 )";
 
-const char* kSceneFs = R"(#version 330 core
+const char* kSceneFs = R"(
 in vec3 v_pos;
 in vec3 v_nrm;
 in vec2 v_uv;
-uniform int u_mode;
 uniform vec3 u_eye;          // camera (and, onboard, tip light) position [m]
 uniform sampler2D u_tex;
 uniform vec3 u_color;
@@ -55,14 +55,18 @@ void main() {
   V *= inv_d;
   vec3 N = v_nrm * inversesqrt(dot(v_nrm, v_nrm));
   float ndv = abs(dot(N, V));  // two-sided: the camera may see either face
-  if (u_mode <= 1) {
+#if MODE <= 1
     // Point light at the tip: irradiance falls off as 1 / d^2 (near wall bright, far
     // lumen dark). Light and eye coincide, so the Blinn half vector is V: sharp wet
     // highlights where the mucosa faces the tip, plus a broader sheen.
     // Shading is done in linear light (the texture holds display values; gamma 2 is
     // close enough to 2.2 and costs a multiply, which matters on llvmpipe), tone mapped
     // and gamma encoded at the end, as a camera's processor would.
-    vec3 t = u_mode == 0 ? texture(u_tex, v_uv).rgb : u_color;
+#if MODE == 0
+    vec3 t = texture(u_tex, v_uv).rgb;
+#else
+    vec3 t = u_color;
+#endif
     vec3 albedo = t * t;
     float E = u_light_ref * u_light_ref * inv_d * inv_d;
     float d = d2 * inv_d;
@@ -72,21 +76,25 @@ void main() {
     // Specular lobes ndv^128 (sharp wet glints) and ndv^16 (sheen) by repeated squaring.
     float n2 = ndv * ndv, n4 = n2 * n2, n8 = n4 * n4, n16 = n8 * n8, n32 = n16 * n16;
     float n128 = n32 * n32 * n32 * n32;
-    float spec = u_mode == 0 ? 0.8 * n128 + 0.05 * n16 : 0.4 * n32;
+#if MODE == 0
+    float spec = 0.8 * n128 + 0.05 * n16;
+#else
+    float spec = 0.4 * n32;
+#endif
     // A little wrap-around light (0.15) keeps fold silhouettes from going pitch black.
     vec3 c = u_exposure * (albedo * (0.15 + 0.85 * ndv) + vec3(spec)) * E;
     c = c / (1.0 + c);  // tone map: bright but never clipped flat
     c = sqrt(c);
     o_color = vec4(c, 1.0);
-  } else if (u_mode == 2) {
+#elif MODE == 2
     // X-ray look: faint where the wall faces the viewer, denser along the outline.
     float g = 1.0 - ndv;
     float a = mix(u_alpha.x, u_alpha.y, g * g * g);
     o_color = vec4(u_color * (0.5 + 0.5 * ndv), a);
-  } else {
+#else
     vec3 col = distance(v_pos, u_tip_pos) < u_tip_len ? u_tip_color : u_color;
     o_color = vec4(col * (0.35 + 0.65 * ndv) + vec3(0.3 * pow(ndv, 40.0)), 1.0);
-  }
+#endif
 }
 )";
 
@@ -243,7 +251,8 @@ void useViewport(const Viewport& vp) {
 }  // namespace
 
 struct Renderer::Gl {
-  GLuint scene = 0, post = 0, text = 0;
+  std::array<GLuint, 4> scene{};  // by MODE of kSceneFs
+  GLuint post = 0, text = 0;
   GLuint texture = 0;
   MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
   GLuint text_vao = 0, text_vbo = 0;
@@ -280,7 +289,10 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
     : tube_(tube), gl_(std::make_unique<Gl>()) {
   if (!glCreateShader)
     throw std::runtime_error("render: no GL loaded (make an OffscreenContext or Window first)");
-  gl_->scene = link(kSceneVs, kSceneFs);
+  for (int mode = 0; mode < 4; ++mode) {
+    const std::string fs = "#version 330 core\n#define MODE " + std::to_string(mode) + "\n" + kSceneFs;
+    gl_->scene[mode] = link(kSceneVs, fs.c_str());
+  }
   gl_->post = link(kPostVs, kPostFs);
   gl_->text = link(kTextVs, kTextFs);
   gl_->colon.create();
@@ -309,7 +321,7 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
 
 Renderer::~Renderer() {
   if (!glDeleteProgram) return;
-  glDeleteProgram(gl_->scene);
+  for (GLuint p : gl_->scene) glDeleteProgram(p);
   glDeleteProgram(gl_->post);
   glDeleteProgram(gl_->text);
   gl_->colon.destroy();
@@ -364,23 +376,28 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   const double aspect = static_cast<double>(vp.width) / vp.height;
   const double fov_y = verticalFovFromDiagonal(optics.fov_diagonal_deg * kPi / 180, aspect);
   const Mat4f vp_mat = perspectiveMatrix(fov_y, aspect, optics.near_m, optics.far_m) * viewMatrix(camera);
-  const GLuint p = gl_->scene;
-  glUseProgram(p);
-  setMat4(p, "u_view_proj", vp_mat);
-  setVec3(p, "u_eye", camera.p_WC_m);
-  glUniform1f(glGetUniformLocation(p, "u_light_ref"), static_cast<float>(optics.light_ref_m));
-  glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
-  glUniform1f(glGetUniformLocation(p, "u_far"), static_cast<float>(optics.far_m));
+  // One program per MODE; uniforms a mode does not use are optimised out (location -1),
+  // and glUniform ignores location -1.
+  auto use = [&](int mode) {
+    const GLuint p = gl_->scene[mode];
+    glUseProgram(p);
+    setMat4(p, "u_view_proj", vp_mat);
+    setVec3(p, "u_eye", camera.p_WC_m);
+    glUniform1f(glGetUniformLocation(p, "u_light_ref"), static_cast<float>(optics.light_ref_m));
+    glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
+    glUniform1f(glGetUniformLocation(p, "u_far"), static_cast<float>(optics.far_m));
+    glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+    return p;
+  };
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, gl_->texture);
-  glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
-  glUniform1i(glGetUniformLocation(p, "u_mode"), 0);
+  use(0);
   std::vector<StripRun> runs;
   visibleStrips(rings_, camera.p_WC_m, camera.R_WC.col(2), optics.far_m,
                 0.5 * optics.fov_diagonal_deg * kPi / 180, runs);
   gl_->colon.drawRuns(runs, 6 * (colon_mesh_.ring_vertices - 1));
   if (gl_->scope.index_count > 0) {
-    glUniform1i(glGetUniformLocation(p, "u_mode"), 1);
+    const GLuint p = use(1);
     setVec3(p, "u_color", std::array<float, 3>{0.12f, 0.12f, 0.13f});  // black insertion tube
     gl_->scope.draw();
   }
@@ -421,16 +438,19 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   const double aspect = static_cast<double>(vp.width) / vp.height;
   const Mat4f vp_mat = perspectiveMatrix(camera.fov_y_deg * kPi / 180, aspect, 0.05 * camera.distance_m,
                                          4 * camera.distance_m + 1.0) * viewMatrix(pose);
-  const GLuint p = gl_->scene;
-  glUseProgram(p);
-  setMat4(p, "u_view_proj", vp_mat);
-  setVec3(p, "u_eye", pose.p_WC_m);
+  auto use = [&](int mode) {
+    const GLuint p = gl_->scene[mode];
+    glUseProgram(p);
+    setMat4(p, "u_view_proj", vp_mat);
+    setVec3(p, "u_eye", pose.p_WC_m);
+    return p;
+  };
   // The scope first, opaque, writing depth; then the colon blended over it without
   // writing depth, so every wall layer shows and nothing hides the scope.
   if (gl_->scope.index_count > 0) {
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
-    glUniform1i(glGetUniformLocation(p, "u_mode"), 3);
+    const GLuint p = use(3);
     setVec3(p, "u_color", style.scope_rgb);
     setVec3(p, "u_tip_color", style.tip_rgb);
     setVec3(p, "u_tip_pos", scope.centreline_m.back());
@@ -440,7 +460,7 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   glEnable(GL_BLEND);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   glDepthMask(GL_FALSE);
-  glUniform1i(glGetUniformLocation(p, "u_mode"), 2);
+  const GLuint p = use(2);
   setVec3(p, "u_color", style.colon_rgb);
   glUniform2f(glGetUniformLocation(p, "u_alpha"), style.colon_alpha_face, style.colon_alpha_silhouette);
   gl_->colon_global.draw();
