@@ -29,7 +29,10 @@ struct OnboardOptics {
   double far_m = 0.3;              ///< far clip plane [m]; the tip light fades out before it
   double light_ref_m = 0.02;       ///< distance at which the tip light gives unit irradiance [m]
   double exposure = 2.5;           ///< scales the irradiance before tone mapping [-]
-  bool barrel_distortion = true;   ///< equidistant fisheye-like barrel distortion
+  /// Barrel distortion of an equidistant lens, applied per vertex (the mesh is dense):
+  /// exact at the vertices, and good while the wall beside the lens is farther than a few
+  /// mm, which the scope's own radius (6.5 mm) ensures. false: rectilinear perspective.
+  bool barrel_distortion = true;
 };
 
 /// Orbit camera of the global view: looks at `target_m` from `distance_m` away, from the

@@ -21,6 +21,13 @@ layout(location = 0) in vec3 a_pos;   // [m], world
 layout(location = 1) in vec3 a_nrm;
 layout(location = 2) in vec2 a_uv;
 uniform mat4 u_view_proj;
+// Onboard barrel distortion, per vertex: an equidistant lens puts the direction at angle
+// theta from the axis at normalised radius theta / half_angle (1 at the image corners).
+uniform bool u_fisheye;
+uniform mat4 u_view;         // world to camera (GL axes: looking down -z)
+uniform float u_half_angle;  // half the diagonal field of view [rad]
+uniform float u_aspect;      // width / height
+uniform vec2 u_near_far;     // [m]
 out vec3 v_pos;
 out vec3 v_nrm;
 out vec2 v_uv;
@@ -28,7 +35,27 @@ void main() {
   v_pos = a_pos;
   v_nrm = a_nrm;
   v_uv = a_uv;
-  gl_Position = u_view_proj * vec4(a_pos, 1.0);
+  if (u_fisheye) {
+    vec3 pc = (u_view * vec4(a_pos, 1.0)).xyz;
+    float d = length(pc);
+    float rxy = length(pc.xy);
+    float theta = atan(rxy, -pc.z);  // 0 on the axis .. pi behind
+    float diag = sqrt(1.0 + u_aspect * u_aspect);
+    vec2 dir = rxy > 1e-12 ? pc.xy / rxy : vec2(0.0);
+    vec2 ndc = dir * (theta / u_half_angle) * diag / vec2(u_aspect, 1.0);
+    // w = the distance: positive all around the lens (no wrap behind the camera),
+    // close to the view depth for perspective-correct interpolation; depth is the
+    // distance between the near and far planes.
+    float z = (d - u_near_far.x) / (u_near_far.y - u_near_far.x) * 2.0 - 1.0;
+    gl_Position = vec4(ndc * d, z * d, d);
+    // w = d never clips what lies behind the lens, and facets around it would map to
+    // wedges across the image: clip at the plane u_near_far.x in front of the lens (the
+    // view reaches 70 deg off axis at the corners, so nothing visible is lost).
+    gl_ClipDistance[0] = -pc.z - u_near_far.x;
+  } else {
+    gl_Position = u_view_proj * vec4(a_pos, 1.0);
+    gl_ClipDistance[0] = 1.0;
+  }
 }
 )";
 
@@ -95,35 +122,6 @@ void main() {
     vec3 col = distance(v_pos, u_tip_pos) < u_tip_len ? u_tip_color : u_color;
     o_color = vec4(col * (0.35 + 0.65 * ndv) + vec3(0.3 * pow(ndv, 40.0)), 1.0);
 #endif
-}
-)";
-
-// Barrel distortion: full-screen pass over the rectilinear image. An output point at
-// normalised radius rho (1 at the corners) sees the angle theta = rho * theta_max
-// (equidistant lens), found in the rectilinear image at tan(theta) / tan(theta_max).
-const char* kPostVs = R"(#version 330 core
-out vec2 v_ndc;
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  v_ndc = p * 2.0 - 1.0;
-  gl_Position = vec4(v_ndc, 0.0, 1.0);
-}
-)";
-
-const char* kPostFs = R"(#version 330 core
-in vec2 v_ndc;
-uniform sampler2D u_src;
-uniform float u_aspect;      // width / height
-uniform float u_half_angle;  // half the diagonal field of view [rad]
-out vec4 o_color;
-void main() {
-  float diag = sqrt(1.0 + u_aspect * u_aspect);
-  vec2 q = v_ndc * vec2(u_aspect, 1.0) / diag;
-  float rho = length(q);
-  float scale = rho > 1e-6 ? tan(rho * u_half_angle) / (tan(u_half_angle) * rho)
-                           : u_half_angle / tan(u_half_angle);
-  vec2 src = q * scale * diag / vec2(u_aspect, 1.0);
-  o_color = vec4(texture(u_src, src * 0.5 + 0.5).rgb, 1.0);
 }
 )";
 
@@ -252,37 +250,10 @@ void useViewport(const Viewport& vp) {
 
 struct Renderer::Gl {
   std::array<GLuint, 4> scene{};  // by MODE of kSceneFs
-  GLuint post = 0, text = 0;
+  GLuint text = 0;
   GLuint texture = 0;
   MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
   GLuint text_vao = 0, text_vbo = 0;
-  GLuint post_vao = 0;
-  // Rectilinear render target of the barrel-distortion pass, resized on demand.
-  GLuint fbo = 0, fbo_color = 0, fbo_depth = 0;
-  int fbo_w = 0, fbo_h = 0;
-
-  void ensureFbo(int w, int h) {
-    if (fbo && fbo_w == w && fbo_h == h) return;
-    if (!fbo) {
-      glGenFramebuffers(1, &fbo);
-      glGenTextures(1, &fbo_color);
-      glGenRenderbuffers(1, &fbo_depth);
-    }
-    glBindTexture(GL_TEXTURE_2D, fbo_color);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glBindRenderbuffer(GL_RENDERBUFFER, fbo_depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, fbo_color, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, fbo_depth);
-    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      throw std::runtime_error("render: the distortion framebuffer is incomplete");
-    fbo_w = w, fbo_h = h;
-  }
 };
 
 Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
@@ -293,12 +264,10 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
     const std::string fs = "#version 330 core\n#define MODE " + std::to_string(mode) + "\n" + kSceneFs;
     gl_->scene[mode] = link(kSceneVs, fs.c_str());
   }
-  gl_->post = link(kPostVs, kPostFs);
   gl_->text = link(kTextVs, kTextFs);
   gl_->colon.create();
   gl_->colon_global.create();
   gl_->scope.create();
-  glGenVertexArrays(1, &gl_->post_vao);
   glGenVertexArrays(1, &gl_->text_vao);
   glGenBuffers(1, &gl_->text_vbo);
   glBindVertexArray(gl_->text_vao);
@@ -322,20 +291,13 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
 Renderer::~Renderer() {
   if (!glDeleteProgram) return;
   for (GLuint p : gl_->scene) glDeleteProgram(p);
-  glDeleteProgram(gl_->post);
   glDeleteProgram(gl_->text);
   gl_->colon.destroy();
   gl_->colon_global.destroy();
   gl_->scope.destroy();
-  glDeleteVertexArrays(1, &gl_->post_vao);
   glDeleteVertexArrays(1, &gl_->text_vao);
   glDeleteBuffers(1, &gl_->text_vbo);
   glDeleteTextures(1, &gl_->texture);
-  if (gl_->fbo) {
-    glDeleteFramebuffers(1, &gl_->fbo);
-    glDeleteTextures(1, &gl_->fbo_color);
-    glDeleteRenderbuffers(1, &gl_->fbo_depth);
-  }
 }
 
 void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
@@ -356,16 +318,7 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
                            const CameraPose& camera, const Viewport& vp, const OnboardOptics& optics) {
   if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
   uploadMeshes(model, q, scope, tube_, /*global=*/false);
-  GLint target = 0;
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
-  if (optics.barrel_distortion) {
-    gl_->ensureFbo(vp.width, vp.height);
-    glBindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
-    glDisable(GL_SCISSOR_TEST);
-    glViewport(0, 0, vp.width, vp.height);
-  } else {
-    useViewport(vp);
-  }
+  useViewport(vp);
   glClearColor(0, 0, 0, 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
@@ -387,10 +340,18 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
     glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
     glUniform1f(glGetUniformLocation(p, "u_far"), static_cast<float>(optics.far_m));
     glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+    glUniform1i(glGetUniformLocation(p, "u_fisheye"), optics.barrel_distortion ? 1 : 0);
+    setMat4(p, "u_view", viewMatrix(camera));
+    glUniform1f(glGetUniformLocation(p, "u_half_angle"),
+                static_cast<float>(0.5 * optics.fov_diagonal_deg * kPi / 180));
+    glUniform1f(glGetUniformLocation(p, "u_aspect"), static_cast<float>(aspect));
+    glUniform2f(glGetUniformLocation(p, "u_near_far"), static_cast<float>(optics.near_m),
+                static_cast<float>(optics.far_m));
     return p;
   };
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, gl_->texture);
+  glEnable(GL_CLIP_DISTANCE0);
   use(0);
   std::vector<StripRun> runs;
   visibleStrips(rings_, camera.p_WC_m, camera.R_WC.col(2), optics.far_m,
@@ -401,21 +362,7 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
     setVec3(p, "u_color", std::array<float, 3>{0.12f, 0.12f, 0.13f});  // black insertion tube
     gl_->scope.draw();
   }
-
-  if (optics.barrel_distortion) {
-    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(target));
-    useViewport(vp);
-    glDisable(GL_DEPTH_TEST);
-    glUseProgram(gl_->post);
-    glBindTexture(GL_TEXTURE_2D, gl_->fbo_color);
-    glUniform1i(glGetUniformLocation(gl_->post, "u_src"), 0);
-    glUniform1f(glGetUniformLocation(gl_->post, "u_aspect"), static_cast<float>(aspect));
-    glUniform1f(glGetUniformLocation(gl_->post, "u_half_angle"),
-                static_cast<float>(0.5 * optics.fov_diagonal_deg * kPi / 180));
-    glBindVertexArray(gl_->post_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
-  }
+  glDisable(GL_CLIP_DISTANCE0);
   glDisable(GL_SCISSOR_TEST);
   glUseProgram(0);
 }

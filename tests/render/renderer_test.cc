@@ -119,6 +119,44 @@ TEST_F(RenderTest, OnboardBrighterNearTheWall) {
   }
 }
 
+// The scope itself: behind the lens it is invisible (every pixel as without it), and
+// retroflexed (the tip bent back to look at the shaft) it fills part of the image.
+TEST_F(RenderTest, OnboardShowsTheScopeOnlyWhenRetroflexed) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  auto differing = [](const Image& a, const Image& b) {
+    int n = 0;
+    for (size_t k = 0; k < a.rgba.size(); k += 4)
+      n += std::abs(a.rgba[k] - b.rgba[k]) + std::abs(a.rgba[k + 1] - b.rgba[k + 1]) > 6;
+    return n;
+  };
+  for (bool barrel : {true, false}) {
+    OnboardOptics optics;
+    optics.barrel_distortion = barrel;
+    // Straight insertion: the scope runs up the axis to the lens.
+    ScopeShape straight;
+    for (int i = 0; i <= 20; ++i) straight.centreline_m.push_back(Vec3(0, 0, 0.005 * i));
+    const CameraPose ahead = lookAlong(Vec3(0, 0, 0.1), Vec3::UnitZ(), Vec3::UnitY());
+    renderer_->drawOnboard(colon, colon.q_rest, straight, ahead, Viewport{0, 0, 320, 240}, optics);
+    const Image with = ctx_->read();
+    renderer_->drawOnboard(colon, colon.q_rest, ScopeShape{}, ahead, Viewport{0, 0, 320, 240}, optics);
+    EXPECT_EQ(differing(with, ctx_->read()), 0) << "barrel " << barrel;
+    // Retroflexed: up x = -9 mm to z = 0.2, a U-turn of 9 mm radius, down to z = 0.185.
+    ScopeShape retro;
+    for (double z = 0; z < 0.2; z += 0.005) retro.centreline_m.push_back(Vec3(-0.009, 0, z));
+    for (int k = 0; k <= 12; ++k) {
+      const double a = 3.14159265358979 * k / 12;
+      retro.centreline_m.push_back(Vec3(-0.009 * std::cos(a), 0, 0.2 + 0.009 * std::sin(a)));
+    }
+    retro.centreline_m.push_back(Vec3(0.009, 0, 0.185));
+    const CameraPose back = lookAlong(Vec3(0.009, 0, 0.185), -Vec3::UnitZ(), Vec3::UnitY());
+    renderer_->drawOnboard(colon, colon.q_rest, retro, back, Viewport{0, 0, 320, 240}, optics);
+    const Image shaft = ctx_->read();
+    dump(shaft, barrel ? "onboard_retroflexed" : "onboard_retroflexed_rectilinear");
+    renderer_->drawOnboard(colon, colon.q_rest, ScopeShape{}, back, Viewport{0, 0, 320, 240}, optics);
+    EXPECT_GT(differing(shaft, ctx_->read()), 320 * 240 / 20) << "barrel " << barrel;
+  }
+}
+
 // The scope-position display of an alpha loop: the scope's (green or yellow-tipped)
 // pixels are present through the see-through colon, and they enclose a hole: flooding
 // the other pixels from the image border leaves the loop's inside unreached.
