@@ -198,7 +198,7 @@ struct MeshBuffers {
   void upload(const TubeMesh& m) {
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, m.vertices.size() * sizeof(float), m.vertices.data(), GL_STREAM_DRAW);
-    if (m.indices != uploaded_indices) {  // the topology rarely changes between frames
+    if (m.indices != uploaded_indices) {  // the topology rarely changes between frames (memcmp)
       glBindVertexArray(vao);  // the element buffer binding is VAO state
       glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
                    GL_STATIC_DRAW);
@@ -303,8 +303,9 @@ Renderer::~Renderer() {
 void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
                             const TubeOptions& options, bool global) {
   sampleColonRings(model, q, options, rings_);
-  buildColonMesh(rings_, options, colon_mesh_);
-  (global ? gl_->colon_global : gl_->colon).upload(colon_mesh_);
+  TubeMesh& mesh = global ? colon_global_mesh_ : colon_mesh_;
+  buildColonMesh(rings_, options, mesh);
+  (global ? gl_->colon_global : gl_->colon).upload(mesh);
   if (scope.centreline_m.size() >= 2) {
     buildScopeMesh(scope, options, scope_mesh_);
     gl_->scope.upload(scope_mesh_);

@@ -73,8 +73,10 @@ class Renderer {
   void drawText(const std::string& text, int x_px, int y_px, int scale,
                 const std::array<float, 4>& rgba, const Viewport& viewport);
 
-  /// The last meshes built (for inspection and tests; the colon of the last view drawn).
+  /// The last meshes built (for inspection and tests): the onboard view's colon, the
+  /// global view's coarser colon, and the scope.
   const TubeMesh& colonMesh() const { return colon_mesh_; }
+  const TubeMesh& globalColonMesh() const { return colon_global_mesh_; }
   const TubeMesh& scopeMesh() const { return scope_mesh_; }
   const TubeOptions& tubeOptions() const { return tube_; }
 
@@ -84,7 +86,7 @@ class Renderer {
                     const TubeOptions& options, bool global);
   TubeOptions tube_;
   ColonRings rings_;
-  TubeMesh colon_mesh_, scope_mesh_;
+  TubeMesh colon_mesh_, colon_global_mesh_, scope_mesh_;
   std::unique_ptr<Gl> gl_;
 };
 

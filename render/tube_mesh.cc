@@ -118,6 +118,9 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
   const int count = static_cast<int>(rings.centre_m.size());
   const int sides = std::max(3, options.sides);
   const int rv = sides + 1;
+  // The topology depends only on the ring and side counts: keep it from the last frame.
+  const bool same_topology = mesh.rings == count && mesh.ring_vertices == rv &&
+                             mesh.indices.size() == static_cast<size_t>(6) * (count - 1) * sides;
   mesh.rings = count;
   mesh.ring_vertices = rv;
   mesh.vertices.resize(static_cast<size_t>(count) * rv * TubeMesh::kFloatsPerVertex);
@@ -150,8 +153,10 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
     }
   }
   gridNormals(rings.centre_m, count, rv, /*inward=*/true, mesh.vertices);
-  mesh.indices.clear();
-  addRingIndices(count, rv, mesh.indices);
+  if (!same_topology) {
+    mesh.indices.clear();
+    addRingIndices(count, rv, mesh.indices);
+  }
 }
 
 void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options,
