@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include <Eigen/LU>  // determinant
 
 #include "render/frames.h"
 
@@ -19,9 +22,19 @@ CameraPose lookAlong(const Vec3& position_m, const Vec3& forward, const Vec3& up
   CameraPose pose;
   pose.p_WC_m = position_m;
   pose.R_WC.col(0) = f.cross(up);  // right = forward x up
-  pose.R_WC.col(1) = up;
+  pose.R_WC.col(1) = -up;          // down: (right, down, forward) is right-handed
   pose.R_WC.col(2) = f;
   return pose;
+}
+
+void checkCameraPose(const CameraPose& pose) {
+  if (!pose.p_WC_m.allFinite() || !pose.R_WC.allFinite())
+    throw std::invalid_argument("render: camera pose is not finite");
+  if ((pose.R_WC.transpose() * pose.R_WC - Mat3::Identity()).norm() > 1e-6)
+    throw std::invalid_argument("render: camera R_WC is not orthonormal");
+  if (pose.R_WC.determinant() < 0)
+    throw std::invalid_argument(
+        "render: camera R_WC is a reflection; its columns must be right, down, forward");
 }
 
 void OrbitCamera::orbit(double dyaw_rad, double dpitch_rad) {
@@ -32,7 +45,7 @@ void OrbitCamera::orbit(double dyaw_rad, double dpitch_rad) {
 void OrbitCamera::pan(double dx, double dy) {
   const CameraPose p = pose();
   const double h = 2 * distance_m * std::tan(0.5 * fov_y_deg * kPi / 180);
-  target_m += h * (dx * p.R_WC.col(0) + dy * p.R_WC.col(1));
+  target_m += h * (dx * p.R_WC.col(0) - dy * p.R_WC.col(1));  // col(1) points down
 }
 
 void OrbitCamera::zoom(double factor) {
@@ -58,10 +71,10 @@ OrbitCamera frameBox(const Vec3& lo_m, const Vec3& hi_m, double aspect) {
 }
 
 Mat4f viewMatrix(const CameraPose& pose) {
-  // GL camera axes: x = right, y = up, z = -forward.
+  // GL camera axes: x = right, y = up = -down, z = -forward.
   Mat3 R_CW;
   R_CW.row(0) = pose.R_WC.col(0).transpose();
-  R_CW.row(1) = pose.R_WC.col(1).transpose();
+  R_CW.row(1) = -pose.R_WC.col(1).transpose();
   R_CW.row(2) = -pose.R_WC.col(2).transpose();
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = R_CW;

@@ -11,15 +11,20 @@ namespace colosim {
 using Mat4f = Eigen::Matrix4f;
 
 /// A camera pose in the world (patient) frame W: p_WC its position [m], R_WC a rotation
-/// whose columns are the camera's right, up and forward axes in W (forward = the scope
-/// tip axis for the onboard camera).
+/// (det +1) whose columns are the camera's right, down and forward axes in W (forward =
+/// the scope tip axis for the onboard camera). This is the optical-frame convention of
+/// OpenCV and ROS; (right, up, forward) cannot be a rotation: it is a left-handed triad.
 struct CameraPose {
   Vec3 p_WC_m = Vec3::Zero();
   Mat3 R_WC = Mat3::Identity();
 };
 
-/// A pose at `position_m` looking along `forward` with `up_hint` roughly up (not parallel
-/// to forward; a perpendicular is chosen if it is).
+/// Throws std::invalid_argument unless the pose is finite and R_WC is a rotation (to
+/// 1e-6): a reflection would silently mirror the image.
+void checkCameraPose(const CameraPose& pose);
+
+/// A pose at `position_m` looking along `forward` with `up_hint` roughly up on screen (not
+/// parallel to forward; a perpendicular is chosen if it is).
 CameraPose lookAlong(const Vec3& position_m, const Vec3& forward, const Vec3& up_hint);
 
 /// Onboard optics: a wide-angle colonoscope lens lit by a light at the tip.

@@ -318,6 +318,7 @@ void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const Scop
 void Renderer::drawOnboard(const ColonModel& model, const Points& q, const ScopeShape& scope,
                            const CameraPose& camera, const Viewport& vp, const OnboardOptics& optics) {
   if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
+  checkCameraPose(camera);
   uploadMeshes(model, q, scope, tube_, /*global=*/false);
   useViewport(vp);
   glClearColor(0, 0, 0, 1);

@@ -90,6 +90,11 @@ Image Window::read() const {
 void Window::onButton(GLFWwindow* w, int button, int action, int mods) {
   auto* self = static_cast<Window*>(glfwGetWindowUserPointer(w));
   if (action == GLFW_PRESS) {
+    double x = 0, y = 0;
+    int ww = 0, wh = 0;
+    glfwGetCursorPos(w, &x, &y);
+    glfwGetWindowSize(w, &ww, &wh);
+    if (x < 0.5 * ww) return;  // the left half is the onboard view: not steerable here
     self->drag_button_ = button;
     self->drag_pan_ = button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT);
     glfwGetCursorPos(w, &self->last_x_, &self->last_y_);
@@ -111,6 +116,11 @@ void Window::onCursor(GLFWwindow* w, double x, double y) {
 
 void Window::onScroll(GLFWwindow* w, double, double dy) {
   auto* self = static_cast<Window*>(glfwGetWindowUserPointer(w));
+  double x = 0, y = 0;
+  int ww = 0, wh = 0;
+  glfwGetCursorPos(w, &x, &y);
+  glfwGetWindowSize(w, &ww, &wh);
+  if (x < 0.5 * ww) return;
   self->orbit_.zoom(dy > 0 ? 0.9 : 1.0 / 0.9);
 }
 
