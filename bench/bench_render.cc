@@ -34,7 +34,8 @@ double median(std::vector<double> v) {
 
 // The scope along the colon's centreline from the anus to rest arclength tip_s_m, and the
 // onboard camera at its tip looking along the centreline.
-void scopeAlong(const ColonModel& model, const Points& q, double tip_s_m, ScopeShape& scope, CameraPose& cam) {
+void scopeAlong(const ColonModel& model, const Points& q, double tip_s_m, ScopeShape& scope,
+                CameraPose& cam) {
   scope.centreline_m.clear();
   int tip_seg = 0;
   double tip_p = 0;
@@ -123,7 +124,8 @@ BenchOutput benchRender() {
                 "    without barrel distortion: %7.2f ms per frame (%.0f fps)\n"
                 "  global view:  %7.2f ms per frame (%.0f fps)\n"
                 "  of which colon mesh rebuild: %.2f ms\n",
-                model.n, triangles, W, H, frames, on, 1000 / on, on_cpu, rect, 1000 / rect, gl, 1000 / gl, me);
+                model.n, triangles, W, H, frames, on, 1000 / on, on_cpu, rect, 1000 / rect, gl, 1000 / gl,
+                me);
   BenchOutput out;
   out.json = {{"benchmark", "render"},
               {"width_px", W},

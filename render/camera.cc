@@ -1,10 +1,9 @@
 #include "render/camera.h"
 
+#include <Eigen/LU>  // determinant
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/LU>  // determinant
 
 #include "render/frames.h"
 
@@ -48,9 +47,7 @@ void OrbitCamera::pan(double dx, double dy) {
   target_m += h * (dx * p.R_WC.col(0) - dy * p.R_WC.col(1));  // col(1) points down
 }
 
-void OrbitCamera::zoom(double factor) {
-  distance_m = std::clamp(distance_m * factor, 0.05, 10.0);
-}
+void OrbitCamera::zoom(double factor) { distance_m = std::clamp(distance_m * factor, 0.05, 10.0); }
 
 CameraPose OrbitCamera::pose() const {
   // Eye direction from the target: anterior (+y) rotated by yaw about z, raised by pitch.

@@ -8,8 +8,10 @@ namespace colosim {
 Vec3 anyPerpendicular(const Vec3& t) {
   // Cross with the coordinate axis least aligned with t: never degenerate.
   Vec3 axis = Vec3::UnitX();
-  if (std::abs(t.y()) < std::abs(t.x()) && std::abs(t.y()) <= std::abs(t.z())) axis = Vec3::UnitY();
-  else if (std::abs(t.z()) < std::abs(t.x())) axis = Vec3::UnitZ();
+  if (std::abs(t.y()) < std::abs(t.x()) && std::abs(t.y()) <= std::abs(t.z()))
+    axis = Vec3::UnitY();
+  else if (std::abs(t.z()) < std::abs(t.x()))
+    axis = Vec3::UnitZ();
   return t.cross(axis).normalized();
 }
 
@@ -23,8 +25,8 @@ Vec3 initialNormal(const Vec3& d1, const Vec3& d2) {
   return anyPerpendicular(t);
 }
 
-void rotationMinimisingFrames(const std::vector<Vec3>& x, const std::vector<Vec3>& tangent,
-                              const Vec3& r0, std::vector<CurveFrame>& frames) {
+void rotationMinimisingFrames(const std::vector<Vec3>& x, const std::vector<Vec3>& tangent, const Vec3& r0,
+                              std::vector<CurveFrame>& frames) {
   const size_t n = x.size();
   frames.resize(n);
   if (n == 0) return;

@@ -11,9 +11,8 @@
 // Its error per step is O(h^4); the frames neither twist nor flip.
 #pragma once
 
-#include <vector>
-
 #include <Eigen/Geometry>  // cross products
+#include <vector>
 
 #include "core/spline.h"
 
@@ -40,8 +39,8 @@ Vec3 initialNormal(const Vec3& d1, const Vec3& d2);
 /// normalised here), started from r0 (projected onto the plane normal to the first
 /// tangent and normalised). x and tangent have the same size >= 1.
 /// [out] frames, resized to x.size().
-void rotationMinimisingFrames(const std::vector<Vec3>& x, const std::vector<Vec3>& tangent,
-                              const Vec3& r0, std::vector<CurveFrame>& frames);
+void rotationMinimisingFrames(const std::vector<Vec3>& x, const std::vector<Vec3>& tangent, const Vec3& r0,
+                              std::vector<CurveFrame>& frames);
 
 /// Rotation angle [rad] between two frames (angle of the rotation taking a to b).
 double frameRotationAngle(const CurveFrame& a, const CurveFrame& b);

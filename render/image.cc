@@ -12,7 +12,9 @@ namespace colosim {
 namespace {
 
 struct FileCloser {
-  void operator()(FILE* f) const { if (f) std::fclose(f); }
+  void operator()(FILE* f) const {
+    if (f) std::fclose(f);
+  }
 };
 using File = std::unique_ptr<FILE, FileCloser>;
 
@@ -43,8 +45,7 @@ void writePng(const std::string& path, const Image& image) {
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(png, 3);  // exports are frequent; size matters less than speed
     png_write_info(png, info);
-    for (int y = 0; y < image.height; ++y)
-      png_write_row(png, const_cast<png_bytep>(image.at(0, y)));
+    for (int y = 0; y < image.height; ++y) png_write_row(png, const_cast<png_bytep>(image.at(0, y)));
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
     if (std::fflush(f.get()) != 0) {
@@ -90,8 +91,7 @@ Image readPng(const std::string& path) {
   png_read_update_info(png, info);
   img = Image(static_cast<int>(png_get_image_width(png, info)),
               static_cast<int>(png_get_image_height(png, info)));
-  if (png_get_rowbytes(png, info) != static_cast<size_t>(img.width) * 4)
-    longjmp(png_jmpbuf(png), 1);
+  if (png_get_rowbytes(png, info) != static_cast<size_t>(img.width) * 4) longjmp(png_jmpbuf(png), 1);
   rows.resize(img.height);
   for (int y = 0; y < img.height; ++y) rows[y] = img.at(0, y);
   png_read_image(png, rows.data());

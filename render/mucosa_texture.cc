@@ -25,7 +25,9 @@ class PeriodicNoise {
     const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
     const double tx = fx - ix, ty = fy - iy;
     const double sx = tx * tx * (3 - 2 * tx), sy = ty * ty * (3 - 2 * ty);
-    auto at = [&](int i, int j) { return v_[((j % cells_ + cells_) % cells_) * cells_ + (i % cells_ + cells_) % cells_]; };
+    auto at = [&](int i, int j) {
+      return v_[((j % cells_ + cells_) % cells_) * cells_ + (i % cells_ + cells_) % cells_];
+    };
     const double a = at(ix, iy) + sx * (at(ix + 1, iy) - at(ix, iy));
     const double b = at(ix, iy + 1) + sx * (at(ix + 1, iy + 1) - at(ix, iy + 1));
     return a + sy * (b - a);

@@ -199,7 +199,7 @@ struct MeshBuffers {
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, m.vertices.size() * sizeof(float), m.vertices.data(), GL_STREAM_DRAW);
     if (m.indices != uploaded_indices) {  // the topology rarely changes between frames (memcmp)
-      glBindVertexArray(vao);  // the element buffer binding is VAO state
+      glBindVertexArray(vao);             // the element buffer binding is VAO state
       glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
                    GL_STATIC_DRAW);
       glBindVertexArray(0);
@@ -216,8 +216,9 @@ struct MeshBuffers {
   void drawRuns(const std::vector<StripRun>& runs, int strip_indices) const {
     glBindVertexArray(vao);
     for (const StripRun& r : runs)
-      glDrawElements(GL_TRIANGLES, (r.end - r.first) * strip_indices, GL_UNSIGNED_INT,
-                     reinterpret_cast<void*>(static_cast<size_t>(r.first) * strip_indices * sizeof(uint32_t)));
+      glDrawElements(
+          GL_TRIANGLES, (r.end - r.first) * strip_indices, GL_UNSIGNED_INT,
+          reinterpret_cast<void*>(static_cast<size_t>(r.first) * strip_indices * sizeof(uint32_t)));
     glBindVertexArray(0);
   }
   void destroy() {
@@ -386,7 +387,8 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   const CameraPose pose = camera.pose();
   const double aspect = static_cast<double>(vp.width) / vp.height;
   const Mat4f vp_mat = perspectiveMatrix(camera.fov_y_deg * kPi / 180, aspect, 0.05 * camera.distance_m,
-                                         4 * camera.distance_m + 1.0) * viewMatrix(pose);
+                                         4 * camera.distance_m + 1.0) *
+                       viewMatrix(pose);
   auto use = [&](int mode) {
     const GLuint p = gl_->scene[mode];
     glUseProgram(p);
@@ -455,8 +457,7 @@ Image readFramebuffer(const Viewport& vp) {
 
 std::vector<unsigned> drainGlErrors() {
   std::vector<unsigned> errors;
-  for (GLenum e = glGetError(); e != GL_NO_ERROR && errors.size() < 64; e = glGetError())
-    errors.push_back(e);
+  for (GLenum e = glGetError(); e != GL_NO_ERROR && errors.size() < 64; e = glGetError()) errors.push_back(e);
   return errors;
 }
 

@@ -29,14 +29,14 @@ struct Viewport {
 struct GlobalStyle {
   std::array<float, 3> background{0.07f, 0.08f, 0.11f};
   std::array<float, 3> colon_rgb{0.95f, 0.55f, 0.55f};
-  float colon_alpha_face = 0.07f;       ///< opacity where the wall faces the viewer [-]
-  float colon_alpha_silhouette = 0.55f; ///< opacity at grazing angles (the outline) [-]
+  float colon_alpha_face = 0.07f;                       ///< opacity where the wall faces the viewer [-]
+  float colon_alpha_silhouette = 0.55f;                 ///< opacity at grazing angles (the outline) [-]
   std::array<float, 3> scope_rgb{0.15f, 0.95f, 0.35f};  ///< distinct, opaque
   std::array<float, 3> tip_rgb{1.0f, 0.85f, 0.1f};      ///< the last few cm of the scope
   double tip_length_m = 0.03;
   // The outside view needs no fine detail: a coarser colon without folds keeps it cheap.
-  int colon_sides = 16;              ///< facets around the colon
-  int colon_samples_per_segment = 4; ///< rings per spline segment
+  int colon_sides = 16;               ///< facets around the colon
+  int colon_samples_per_segment = 4;  ///< rings per spline segment
 };
 
 class Renderer {
@@ -51,8 +51,7 @@ class Renderer {
   /// The colonoscope image from `camera` (at the tip, forward = tip axis): the colon wall
   /// lit by the tip light, and the scope itself (visible when retroflexed).
   void drawOnboard(const ColonModel& model, const Points& q, const ScopeShape& scope,
-                   const CameraPose& camera, const Viewport& viewport,
-                   const OnboardOptics& optics = {});
+                   const CameraPose& camera, const Viewport& viewport, const OnboardOptics& optics = {});
   void drawOnboard(const ColonModel& model, const Points& q, const ScopeShape& scope,
                    const CameraPose& camera, int width, int height) {
     drawOnboard(model, q, scope, camera, Viewport{0, 0, width, height});
@@ -60,8 +59,7 @@ class Renderer {
 
   /// The scope-position display: see-through colon, opaque scope, from an orbit camera.
   void drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,
-                  const OrbitCamera& camera, const Viewport& viewport,
-                  const GlobalStyle& style = {});
+                  const OrbitCamera& camera, const Viewport& viewport, const GlobalStyle& style = {});
   void drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,
                   const OrbitCamera& camera, int width, int height) {
     drawGlobal(model, q, scope, camera, Viewport{0, 0, width, height});
@@ -70,8 +68,8 @@ class Renderer {
   /// Text overlay in a tiny 5 x 7 bitmap font (digits, letters, . , : - + / % ( ) and
   /// space; lower case drawn as upper case): the top-left corner of the text at pixel
   /// (x, y) from the viewport's top left, each font pixel `scale` screen pixels.
-  void drawText(const std::string& text, int x_px, int y_px, int scale,
-                const std::array<float, 4>& rgba, const Viewport& viewport);
+  void drawText(const std::string& text, int x_px, int y_px, int scale, const std::array<float, 4>& rgba,
+                const Viewport& viewport);
 
   /// The last meshes built (for inspection and tests): the onboard view's colon, the
   /// global view's coarser colon, and the scope.

@@ -22,8 +22,7 @@ void addRingIndices(int rings, int ring_vertices, std::vector<uint32_t>& indices
 
 // Vertex normals by central differences on the (ring, side) grid: n = d/d(along) x d/d(around),
 // turned to point towards (inward = true) or away from the ring centre.
-void gridNormals(const std::vector<Vec3>& centre, int rings, int rv, bool inward,
-                 std::vector<float>& v) {
+void gridNormals(const std::vector<Vec3>& centre, int rings, int rv, bool inward, std::vector<float>& v) {
   auto P = [&](int i, int j) {
     const float* p = &v[8 * (i * rv + j)];
     return Vec3(p[0], p[1], p[2]);
@@ -42,7 +41,8 @@ void gridNormals(const std::vector<Vec3>& centre, int rings, int rv, bool inward
       for (int jj : {j, j == 0 ? sides : -1}) {
         if (jj < 0) continue;
         float* dst = &v[8 * (i * rv + jj) + 3];
-        dst[0] = static_cast<float>(n.x()), dst[1] = static_cast<float>(n.y()), dst[2] = static_cast<float>(n.z());
+        dst[0] = static_cast<float>(n.x()), dst[1] = static_cast<float>(n.y()),
+        dst[2] = static_cast<float>(n.z());
       }
     }
   }
@@ -70,8 +70,8 @@ void sampleColonRings(const ColonModel& model, const Points& q, const TubeOption
   std::vector<char> rectum(model.n - 1, 0);
   for (int j = 0; j + 1 < model.n; ++j) {
     const int r = model.segment_region.empty() ? -1 : model.segment_region[j];
-    rectum[j] = r >= 0 && r < static_cast<int>(model.region_names.size()) &&
-                model.region_names[r] == "rectum";
+    rectum[j] =
+        r >= 0 && r < static_cast<int>(model.region_names.size()) && model.region_names[r] == "rectum";
   }
   for (int k = 0; k < count; ++k) {
     const int j = std::min(k / S, model.n - 2);
@@ -140,14 +140,16 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
     const CurveFrame& f = rings.frame[i];
     const float v = static_cast<float>(rings.s_rest_m[i] / options.texture_tile_m);
     // fold = depth * w * exp(-(d / width)^2), so r = R (1 - fold * taenia_j) as in haustralRadius.
-    const double fold = haustralRadius(1.0, rings.s_rest_m[i], 0.5 * kPi / 1.5, rings.fold_weight[i], options);
+    const double fold =
+        haustralRadius(1.0, rings.s_rest_m[i], 0.5 * kPi / 1.5, rings.fold_weight[i], options);
     const double fold_amount = 1.0 - fold;  // at theta where taenia = 1
     const double R = rings.radius_m[i];
     for (int j = 0; j < rv; ++j) {
       const double r = R * (1 - fold_amount * taenia[j]);
       const Vec3 p = rings.centre_m[i] + r * (c[j] * f.r + s[j] * f.s);
       float* dst = &mesh.vertices[8 * (static_cast<size_t>(i) * rv + j)];
-      dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()), dst[2] = static_cast<float>(p.z());
+      dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()),
+      dst[2] = static_cast<float>(p.z());
       dst[6] = static_cast<float>(j) / sides;
       dst[7] = v;
     }
@@ -159,8 +161,7 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
   }
 }
 
-void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options,
-                    TubeMesh& mesh) {
+void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options, TubeMesh& mesh) {
   ColonRings rings;
   sampleColonRings(model, q, options, rings);
   buildColonMesh(rings, options, mesh);
@@ -186,8 +187,10 @@ void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forwa
   for (int i = 0; i + 1 < count; ++i) {
     const bool next = visible(i + 1);
     if (prev || next) {
-      if (!runs.empty() && runs.back().end == i) ++runs.back().end;
-      else runs.push_back({i, i + 1});
+      if (!runs.empty() && runs.back().end == i)
+        ++runs.back().end;
+      else
+        runs.push_back({i, i + 1});
     }
     prev = next;
   }
@@ -206,8 +209,8 @@ void buildScopeMesh(const ScopeShape& scope, const TubeOptions& options, TubeMes
   for (int i = 0; i < n; ++i)
     if (tangent[i].norm() < 1e-12) tangent[i] = i > 0 ? tangent[i - 1] : Vec3::UnitZ();
   std::vector<CurveFrame> frames;
-  const Vec3 d2 = n >= 3 ? Vec3(scope.centreline_m[2] - 2 * scope.centreline_m[1] + scope.centreline_m[0])
-                         : Vec3::Zero();
+  const Vec3 d2 =
+      n >= 3 ? Vec3(scope.centreline_m[2] - 2 * scope.centreline_m[1] + scope.centreline_m[0]) : Vec3::Zero();
   rotationMinimisingFrames(scope.centreline_m, tangent, initialNormal(tangent[0], d2), frames);
 
   const int sides = std::max(3, options.scope_sides);
@@ -219,10 +222,11 @@ void buildScopeMesh(const ScopeShape& scope, const TubeOptions& options, TubeMes
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < rv; ++j) {
       const double th = 2 * kPi * (j % sides) / sides;
-      const Vec3 p = scope.centreline_m[i] +
-                     scope.radius_m * (std::cos(th) * frames[i].r + std::sin(th) * frames[i].s);
+      const Vec3 p =
+          scope.centreline_m[i] + scope.radius_m * (std::cos(th) * frames[i].r + std::sin(th) * frames[i].s);
       float* dst = &mesh.vertices[8 * (static_cast<size_t>(i) * rv + j)];
-      dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()), dst[2] = static_cast<float>(p.z());
+      dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()),
+      dst[2] = static_cast<float>(p.z());
       dst[6] = static_cast<float>(j) / sides;
     }
   }
@@ -234,7 +238,8 @@ void buildScopeMesh(const ScopeShape& scope, const TubeOptions& options, TubeMes
   const Vec3& p = scope.centreline_m[n - 1];
   const Vec3 axis = frames[n - 1].t;
   t[0] = static_cast<float>(p.x()), t[1] = static_cast<float>(p.y()), t[2] = static_cast<float>(p.z());
-  t[3] = static_cast<float>(axis.x()), t[4] = static_cast<float>(axis.y()), t[5] = static_cast<float>(axis.z());
+  t[3] = static_cast<float>(axis.x()), t[4] = static_cast<float>(axis.y()),
+  t[5] = static_cast<float>(axis.z());
   for (int j = 0; j < sides; ++j) {
     const uint32_t a = (n - 1) * rv + j;
     mesh.indices.insert(mesh.indices.end(), {a, a + 1, tip});

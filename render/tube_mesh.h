@@ -36,8 +36,8 @@ struct TubeOptions {
 /// side the onboard camera sees) and outwards for the scope.
 struct TubeMesh {
   static constexpr int kFloatsPerVertex = 8;
-  int rings = 0;         ///< rings along the tube
-  int ring_vertices = 0; ///< vertices per ring (sides + 1: the seam vertex is duplicated, u = 1)
+  int rings = 0;          ///< rings along the tube
+  int ring_vertices = 0;  ///< vertices per ring (sides + 1: the seam vertex is duplicated, u = 1)
   std::vector<float> vertices;
   std::vector<uint32_t> indices;
 
@@ -75,8 +75,7 @@ double haustralRadius(double radius_m, double s_rest_m, double theta_rad, double
 void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMesh& mesh);
 
 /// sampleColonRings then buildColonMesh.
-void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options,
-                    TubeMesh& mesh);
+void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options, TubeMesh& mesh);
 
 /// A run of consecutive strips [first, end) between rings (strip i joins ring i to i + 1).
 struct StripRun {

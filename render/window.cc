@@ -1,7 +1,9 @@
 #include "render/window.h"
 
-#include <glad/gl.h>
+// GLFW must not include the system GL header: glad provides GL.
+#define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <glad/gl.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -49,7 +51,8 @@ Window::~Window() {
 
 void Window::makeCurrent() {
   glfwMakeContextCurrent(window_);
-  if (!gladLoadGL(glfwGetProcAddress)) throw std::runtime_error("render: glad could not load GL through GLFW");
+  if (!gladLoadGL(glfwGetProcAddress))
+    throw std::runtime_error("render: glad could not load GL through GLFW");
 }
 
 bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
@@ -68,9 +71,8 @@ int Window::framebufferHeight() const {
   return h;
 }
 
-void Window::drawSplit(Renderer& renderer, const ColonModel& model, const Points& q,
-                       const ScopeShape& scope, const CameraPose& onboard, const OnboardOptics& optics,
-                       const GlobalStyle& style) {
+void Window::drawSplit(Renderer& renderer, const ColonModel& model, const Points& q, const ScopeShape& scope,
+                       const CameraPose& onboard, const OnboardOptics& optics, const GlobalStyle& style) {
   const int w = framebufferWidth(), h = framebufferHeight();
   if (w < 2 || h < 1) return;  // minimised
   const Viewport left{0, 0, w / 2, h}, right{w / 2, 0, w - w / 2, h};
@@ -110,8 +112,10 @@ void Window::onCursor(GLFWwindow* w, double x, double y) {
   glfwGetWindowSize(w, &ww, &wh);
   const double dx = (x - self->last_x_) / std::max(wh, 1), dy = (y - self->last_y_) / std::max(wh, 1);
   self->last_x_ = x, self->last_y_ = y;
-  if (self->drag_pan_) self->orbit_.pan(-dx, dy);
-  else self->orbit_.orbit(-3.0 * dx, 3.0 * dy);
+  if (self->drag_pan_)
+    self->orbit_.pan(-dx, dy);
+  else
+    self->orbit_.orbit(-3.0 * dx, 3.0 * dy);
 }
 
 void Window::onScroll(GLFWwindow* w, double, double dy) {

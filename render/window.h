@@ -33,9 +33,8 @@ class Window {
   OrbitCamera& globalCamera() { return orbit_; }
 
   /// Split view: onboard on the left half, global on the right half.
-  void drawSplit(Renderer& renderer, const ColonModel& model, const Points& q,
-                 const ScopeShape& scope, const CameraPose& onboard,
-                 const OnboardOptics& optics = {}, const GlobalStyle& style = {});
+  void drawSplit(Renderer& renderer, const ColonModel& model, const Points& q, const ScopeShape& scope,
+                 const CameraPose& onboard, const OnboardOptics& optics = {}, const GlobalStyle& style = {});
 
   /// The current back buffer, top-down (before swapBuffers).
   Image read() const;

@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include <Eigen/LU>  // determinant
+#include <cmath>
 
 namespace colosim {
 namespace {

@@ -13,9 +13,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-double angleBetween(const Vec3& a, const Vec3& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
+double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 
 // Along the whole adult colon, sigmoid loop included, neighbouring rings' frames turn by
 // a small angle, and by no more than the tangent itself turns (a rotation-minimising

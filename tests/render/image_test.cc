@@ -15,8 +15,8 @@ TEST(Png, RoundTripsExactly) {
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {
       uint8_t* p = img.at(x, y);
-      p[0] = static_cast<uint8_t>(7 * x), p[1] = static_cast<uint8_t>(13 * y), p[2] = static_cast<uint8_t>(x ^ y),
-      p[3] = static_cast<uint8_t>(255 - x);
+      p[0] = static_cast<uint8_t>(7 * x), p[1] = static_cast<uint8_t>(13 * y),
+      p[2] = static_cast<uint8_t>(x ^ y), p[3] = static_cast<uint8_t>(255 - x);
     }
   const std::string path = dir.file("a.png");
   writePng(path, img);

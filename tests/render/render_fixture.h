@@ -38,8 +38,7 @@ inline std::vector<Vec3> alphaLoopPath(double loop_m = 0.06, double step_m = 0.0
     const double a = 2 * pi * i / k;
     p.push_back(Vec3(loop_m * std::cos(a), -0.6 * loop_m * std::cos(0.5 * a), h + loop_m * std::sin(a)));
   }
-  for (double z = h + step_m; z < h + 0.1; z += step_m)
-    p.push_back(Vec3(loop_m, 0.6 * loop_m, z));
+  for (double z = h + step_m; z < h + 0.1; z += step_m) p.push_back(Vec3(loop_m, 0.6 * loop_m, z));
   return p;
 }
 

@@ -37,7 +37,8 @@ double meanInAnnulus(const Image& img, double r0, double r1) {
 double meanImage(const Image& img) { return meanInAnnulus(img, 0, 1e9); }
 
 void dump(const Image& img, const std::string& name) {
-  if (const char* dir = std::getenv("COLOSIM_RENDER_DUMP")) writePng(std::string(dir) + "/" + name + ".png", img);
+  if (const char* dir = std::getenv("COLOSIM_RENDER_DUMP"))
+    writePng(std::string(dir) + "/" + name + ".png", img);
 }
 
 class RenderTest : public ::testing::Test {
@@ -76,8 +77,8 @@ TEST_F(RenderTest, OnboardStraightColonDarkCentreBrightRing) {
   for (bool barrel : {true, false}) {
     OnboardOptics optics;
     optics.barrel_distortion = barrel;
-    const Image img = onboard(*ctx_, *renderer_, colon,
-                              lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), optics);
+    const Image img =
+        onboard(*ctx_, *renderer_, colon, lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), optics);
     dump(img, barrel ? "onboard_straight" : "onboard_straight_rectilinear");
     const double centre = meanInAnnulus(img, 0, 0.12);
     const double ring = meanInAnnulus(img, 0.55, 0.95);
@@ -101,8 +102,8 @@ TEST_F(RenderTest, OnboardBrighterNearTheWall) {
   const ColonModel colon = test::straightColon(0.36, 0.02);
   double prev = 0;
   for (double offset_m : {0.0, 0.008, 0.014}) {
-    const Image img = onboard(*ctx_, *renderer_, colon,
-                              lookAlong(Vec3(offset_m, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()));
+    const Image img =
+        onboard(*ctx_, *renderer_, colon, lookAlong(Vec3(offset_m, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()));
     const double m = meanImage(img);
     EXPECT_GT(m, prev * 1.05) << "offset " << offset_m;
     prev = m;
@@ -222,16 +223,17 @@ TEST_F(RenderTest, PngExportAtRequestedSize) {
   for (int i = 0; i <= 10; ++i) scope.centreline_m.push_back(Vec3(0, 0, 0.006 * i));
   for (auto [w, h] : {std::pair{317, 203}, std::pair{64, 48}, std::pair{1024, 768}}) {
     ctx_->resize(w, h);
-    renderer_->drawOnboard(colon, colon.q_rest, scope, lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()),
-                           w, h);
+    renderer_->drawOnboard(colon, colon.q_rest, scope,
+                           lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), w, h);
     const Image on = ctx_->read();
     writePng(dir.file("onboard.png"), on);
     const Image back = readPng(dir.file("onboard.png"));
     EXPECT_EQ(back.width, w);
     EXPECT_EQ(back.height, h);
     EXPECT_EQ(back.rgba, on.rgba);
-    renderer_->drawGlobal(colon, colon.q_rest, scope, frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36),
-                                                              static_cast<double>(w) / h), w, h);
+    renderer_->drawGlobal(colon, colon.q_rest, scope,
+                          frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), static_cast<double>(w) / h),
+                          w, h);
     const Image gl = ctx_->read();
     writePng(dir.file("global.png"), gl);
     EXPECT_EQ(readPng(dir.file("global.png")).rgba, gl.rgba);
@@ -245,9 +247,10 @@ TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
   const ColonModel colon = test::straightColon();
   const ScopeShape scope{{Vec3(0, 0, 0), Vec3(0, 0, 0.06)}, 0.0065};
   renderer_->drawGlobal(colon, colon.q_rest, scope,
-                        frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), 1.0), Viewport{200, 0, 200, 200});
-  renderer_->drawOnboard(colon, colon.q_rest, scope, lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()),
-                         Viewport{0, 0, 200, 200});
+                        frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), 1.0),
+                        Viewport{200, 0, 200, 200});
+  renderer_->drawOnboard(colon, colon.q_rest, scope,
+                         lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), Viewport{0, 0, 200, 200});
   const Image img = ctx_->read();
   dump(img, "split");
   // The global view's background colour survives in the right half's corner.
@@ -256,8 +259,8 @@ TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
   EXPECT_NEAR(corner[2], std::lround(style.background[2] * 255), 1);
   // The onboard left half is the same as a full-size onboard render of that size.
   ctx_->resize(200, 200);
-  renderer_->drawOnboard(colon, colon.q_rest, scope, lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()),
-                         200, 200);
+  renderer_->drawOnboard(colon, colon.q_rest, scope,
+                         lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), 200, 200);
   const Image alone = ctx_->read();
   int differing = 0;
   for (int y = 0; y < 200; ++y)
@@ -270,8 +273,8 @@ TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
 TEST_F(RenderTest, TextOverlayDrawsTheGlyphs) {
   ctx_->resize(200, 60);
   const ColonModel colon = test::straightColon();
-  renderer_->drawGlobal(colon, colon.q_rest, ScopeShape{}, frameBox(Vec3(-1, -1, -1), Vec3(-0.9, -0.9, -0.9), 1),
-                        200, 60);
+  renderer_->drawGlobal(colon, colon.q_rest, ScopeShape{},
+                        frameBox(Vec3(-1, -1, -1), Vec3(-0.9, -0.9, -0.9), 1), 200, 60);
   const std::string text = "12.5 CM";
   renderer_->drawText(text, 10, 10, 3, {1, 1, 1, 1}, Viewport{0, 0, 200, 60});
   const Image img = ctx_->read();

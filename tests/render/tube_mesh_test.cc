@@ -68,10 +68,14 @@ TEST_F(AdultMesh, RadiusHaustraAndRectum) {
       const Vec3 d = mesh.position(i * mesh.ring_vertices + j) - rings.centre_m[i];
       EXPECT_NEAR(d.dot(rings.frame[i].t), 0.0, 1e-6);
       const double r = d.norm();
-      EXPECT_NEAR(r, haustralRadius(rings.radius_m[i], rings.s_rest_m[i], 2 * kPi * j / opt.sides,
-                                    rings.fold_weight[i], opt), 1e-6);
-      if (rectum) EXPECT_NEAR(r, rings.radius_m[i], 1e-6) << "a fold in the rectum, ring " << i;
-      else min_ratio_outside = std::min(min_ratio_outside, r / rings.radius_m[i]);
+      EXPECT_NEAR(r,
+                  haustralRadius(rings.radius_m[i], rings.s_rest_m[i], 2 * kPi * j / opt.sides,
+                                 rings.fold_weight[i], opt),
+                  1e-6);
+      if (rectum)
+        EXPECT_NEAR(r, rings.radius_m[i], 1e-6) << "a fold in the rectum, ring " << i;
+      else
+        min_ratio_outside = std::min(min_ratio_outside, r / rings.radius_m[i]);
     }
     rectum_rings += rectum;
   }
