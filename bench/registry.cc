@@ -9,6 +9,7 @@ const std::vector<BenchEntry>& benchmarks() {
        benchContacts},
       {"untwist", "sigmoid_untwist headless: real-time factor, also recording and replaying", benchUntwist},
       {"identify", "identification of a 10,000-row tension test (median seconds of 5 runs)", benchIdentify},
+      {"render", "onboard and global views at 640 x 480, adult colon, OSMesa (ms per frame)", benchRender},
   };
   return list;
 }

@@ -31,5 +31,6 @@ BenchOutput benchColon();
 BenchOutput benchContacts();
 BenchOutput benchUntwist();
 BenchOutput benchIdentify();
+BenchOutput benchRender();
 
 }  // namespace colosim

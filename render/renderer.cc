@@ -1,0 +1,464 @@
+#include "render/renderer.h"
+
+#include <glad/gl.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "render/overlay_font.h"
+
+namespace colosim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Wall and scope. MODE (a #define, one program per mode: a uniform branch costs llvmpipe
+// both sides per pixel): 0 onboard wall (texture, tip light), 1 onboard solid (scope),
+// 2 global wall (see-through), 3 global solid (scope, tip highlighted).
+const char* kSceneVs = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;   // [m], world
+layout(location = 1) in vec3 a_nrm;
+layout(location = 2) in vec2 a_uv;
+uniform mat4 u_view_proj;
+// Onboard barrel distortion, per vertex: an equidistant lens puts the direction at angle
+// theta from the axis at normalised radius theta / half_angle (1 at the image corners).
+uniform bool u_fisheye;
+uniform mat4 u_view;         // world to camera (GL axes: looking down -z)
+uniform float u_half_angle;  // half the diagonal field of view [rad]
+uniform float u_aspect;      // width / height
+uniform vec2 u_near_far;     // [m]
+out vec3 v_pos;
+out vec3 v_nrm;
+out vec2 v_uv;
+void main() {
+  v_pos = a_pos;
+  v_nrm = a_nrm;
+  v_uv = a_uv;
+  if (u_fisheye) {
+    vec3 pc = (u_view * vec4(a_pos, 1.0)).xyz;
+    float d = length(pc);
+    float rxy = length(pc.xy);
+    float theta = atan(rxy, -pc.z);  // 0 on the axis .. pi behind
+    float diag = sqrt(1.0 + u_aspect * u_aspect);
+    vec2 dir = rxy > 1e-12 ? pc.xy / rxy : vec2(0.0);
+    vec2 ndc = dir * (theta / u_half_angle) * diag / vec2(u_aspect, 1.0);
+    // w = the distance: positive all around the lens (no wrap behind the camera),
+    // close to the view depth for perspective-correct interpolation; depth is the
+    // distance between the near and far planes.
+    float z = (d - u_near_far.x) / (u_near_far.y - u_near_far.x) * 2.0 - 1.0;
+    gl_Position = vec4(ndc * d, z * d, d);
+    // w = d never clips what lies behind the lens, and facets around it would map to
+    // wedges across the image: clip at the plane u_near_far.x in front of the lens (the
+    // view reaches 70 deg off axis at the corners, so nothing visible is lost).
+    gl_ClipDistance[0] = -pc.z - u_near_far.x;
+  } else {
+    gl_Position = u_view_proj * vec4(a_pos, 1.0);
+    gl_ClipDistance[0] = 1.0;
+  }
+}
+)";
+
+const char* kSceneFs = R"(
+in vec3 v_pos;
+in vec3 v_nrm;
+in vec2 v_uv;
+uniform vec3 u_eye;          // camera (and, onboard, tip light) position [m]
+uniform sampler2D u_tex;
+uniform vec3 u_color;
+uniform float u_light_ref;   // distance of unit irradiance [m]
+uniform float u_far;         // onboard far plane [m]: the light fades to nothing before it
+uniform float u_exposure;
+uniform vec2 u_alpha;        // global wall opacity: facing, grazing
+uniform vec3 u_tip_color;
+uniform vec3 u_tip_pos;      // [m]
+uniform float u_tip_len;     // [m]
+out vec4 o_color;
+void main() {
+  // inversesqrt rather than length, normalize and divisions: llvmpipe runs this per pixel.
+  vec3 V = u_eye - v_pos;
+  float d2 = dot(V, V);
+  float inv_d = inversesqrt(max(d2, 1e-12));
+  V *= inv_d;
+  vec3 N = v_nrm * inversesqrt(dot(v_nrm, v_nrm));
+  float ndv = abs(dot(N, V));  // two-sided: the camera may see either face
+#if MODE <= 1
+    // Point light at the tip: irradiance falls off as 1 / d^2 (near wall bright, far
+    // lumen dark). Light and eye coincide, so the Blinn half vector is V: sharp wet
+    // highlights where the mucosa faces the tip, plus a broader sheen.
+    // Shading is done in linear light (the texture holds display values; gamma 2 is
+    // close enough to 2.2 and costs a multiply, which matters on llvmpipe), tone mapped
+    // and gamma encoded at the end, as a camera's processor would.
+#if MODE == 0
+    vec3 t = texture(u_tex, v_uv).rgb;
+#else
+    vec3 t = u_color;
+#endif
+    vec3 albedo = t * t;
+    float E = u_light_ref * u_light_ref * inv_d * inv_d;
+    float d = d2 * inv_d;
+    // Beyond ~0.7 far the 1 / d^2 light is already below 1 % of its reference; fading it
+    // to zero at the far plane hides the cut, so the colon beyond need not be drawn.
+    E *= 1.0 - smoothstep(0.7 * u_far, u_far, d);
+    // Specular lobes ndv^128 (sharp wet glints) and ndv^16 (sheen) by repeated squaring.
+    float n2 = ndv * ndv, n4 = n2 * n2, n8 = n4 * n4, n16 = n8 * n8, n32 = n16 * n16;
+    float n128 = n32 * n32 * n32 * n32;
+#if MODE == 0
+    float spec = 0.8 * n128 + 0.05 * n16;
+#else
+    float spec = 0.4 * n32;
+#endif
+    // A little wrap-around light (0.15) keeps fold silhouettes from going pitch black.
+    vec3 c = u_exposure * (albedo * (0.15 + 0.85 * ndv) + vec3(spec)) * E;
+    c = c / (1.0 + c);  // tone map: bright but never clipped flat
+    c = sqrt(c);
+    o_color = vec4(c, 1.0);
+#elif MODE == 2
+    // X-ray look: faint where the wall faces the viewer, denser along the outline.
+    float g = 1.0 - ndv;
+    float a = mix(u_alpha.x, u_alpha.y, g * g * g);
+    o_color = vec4(u_color * (0.5 + 0.5 * ndv), a);
+#else
+    vec3 col = distance(v_pos, u_tip_pos) < u_tip_len ? u_tip_color : u_color;
+    o_color = vec4(col * (0.35 + 0.65 * ndv) + vec3(0.3 * pow(ndv, 40.0)), 1.0);
+#endif
+}
+)";
+
+// Overlay text: rectangles in viewport pixels (top-left origin), one colour.
+const char* kTextVs = R"(#version 330 core
+layout(location = 0) in vec2 a_px;
+uniform vec2 u_size;  // viewport size [px]
+void main() {
+  gl_Position = vec4(a_px.x / u_size.x * 2.0 - 1.0, 1.0 - a_px.y / u_size.y * 2.0, 0.0, 1.0);
+}
+)";
+
+const char* kTextFs = R"(#version 330 core
+uniform vec4 u_rgba;
+out vec4 o_color;
+void main() { o_color = u_rgba; }
+)";
+
+GLuint compile(GLenum type, const char* src) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw std::runtime_error(std::string("render: shader compile failed: ") + log);
+  }
+  return s;
+}
+
+GLuint link(const char* vs, const char* fs) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    throw std::runtime_error(std::string("render: shader link failed: ") + log);
+  }
+  return p;
+}
+
+struct MeshBuffers {
+  GLuint vao = 0, vbo = 0, ebo = 0;
+  GLsizei index_count = 0;
+  std::vector<uint32_t> uploaded_indices;  // what the element buffer holds (re-sent only on change)
+
+  void create() {
+    glGenVertexArrays(1, &vao);
+    glGenBuffers(1, &vbo);
+    glGenBuffers(1, &ebo);
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+    const GLsizei stride = TubeMesh::kFloatsPerVertex * sizeof(float);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(0));
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(3 * sizeof(float)));
+    glEnableVertexAttribArray(2);
+    glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<void*>(6 * sizeof(float)));
+    glBindVertexArray(0);
+  }
+  void upload(const TubeMesh& m) {
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, m.vertices.size() * sizeof(float), m.vertices.data(), GL_STREAM_DRAW);
+    if (m.indices != uploaded_indices) {  // the topology rarely changes between frames (memcmp)
+      glBindVertexArray(vao);             // the element buffer binding is VAO state
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
+                   GL_STATIC_DRAW);
+      glBindVertexArray(0);
+      uploaded_indices = m.indices;
+    }
+    index_count = static_cast<GLsizei>(m.indices.size());
+  }
+  void draw() const {
+    glBindVertexArray(vao);
+    glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+  }
+  // Draws runs of ring strips, each `strip_indices` indices long.
+  void drawRuns(const std::vector<StripRun>& runs, int strip_indices) const {
+    glBindVertexArray(vao);
+    for (const StripRun& r : runs)
+      glDrawElements(
+          GL_TRIANGLES, (r.end - r.first) * strip_indices, GL_UNSIGNED_INT,
+          reinterpret_cast<void*>(static_cast<size_t>(r.first) * strip_indices * sizeof(uint32_t)));
+    glBindVertexArray(0);
+  }
+  void destroy() {
+    glDeleteBuffers(1, &vbo);
+    glDeleteBuffers(1, &ebo);
+    glDeleteVertexArrays(1, &vao);
+  }
+};
+
+void setMat4(GLuint prog, const char* name, const Mat4f& m) {
+  glUniformMatrix4fv(glGetUniformLocation(prog, name), 1, GL_FALSE, m.data());  // column-major
+}
+
+void setVec3(GLuint prog, const char* name, const Vec3& v) {
+  glUniform3f(glGetUniformLocation(prog, name), static_cast<float>(v.x()), static_cast<float>(v.y()),
+              static_cast<float>(v.z()));
+}
+
+void setVec3(GLuint prog, const char* name, const std::array<float, 3>& v) {
+  glUniform3f(glGetUniformLocation(prog, name), v[0], v[1], v[2]);
+}
+
+void useViewport(const Viewport& vp) {
+  glViewport(vp.x, vp.y, vp.width, vp.height);
+  glScissor(vp.x, vp.y, vp.width, vp.height);
+  glEnable(GL_SCISSOR_TEST);  // clear only this view (split screens)
+}
+
+}  // namespace
+
+struct Renderer::Gl {
+  std::array<GLuint, 4> scene{};  // by MODE of kSceneFs
+  GLuint text = 0;
+  GLuint texture = 0;
+  MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
+  GLuint text_vao = 0, text_vbo = 0;
+};
+
+Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
+    : tube_(tube), gl_(std::make_unique<Gl>()) {
+  if (!glCreateShader)
+    throw std::runtime_error("render: no GL loaded (make an OffscreenContext or Window first)");
+  for (int mode = 0; mode < 4; ++mode) {
+    const std::string fs = "#version 330 core\n#define MODE " + std::to_string(mode) + "\n" + kSceneFs;
+    gl_->scene[mode] = link(kSceneVs, fs.c_str());
+  }
+  gl_->text = link(kTextVs, kTextFs);
+  gl_->colon.create();
+  gl_->colon_global.create();
+  gl_->scope.create();
+  glGenVertexArrays(1, &gl_->text_vao);
+  glGenBuffers(1, &gl_->text_vbo);
+  glBindVertexArray(gl_->text_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, gl_->text_vbo);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+  glBindVertexArray(0);
+
+  const Image tex = makeMucosaTexture(mucosa);
+  glGenTextures(1, &gl_->texture);
+  glBindTexture(GL_TEXTURE_2D, gl_->texture);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, tex.width, tex.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               tex.rgba.data());
+  glGenerateMipmap(GL_TEXTURE_2D);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+}
+
+Renderer::~Renderer() {
+  if (!glDeleteProgram) return;
+  for (GLuint p : gl_->scene) glDeleteProgram(p);
+  glDeleteProgram(gl_->text);
+  gl_->colon.destroy();
+  gl_->colon_global.destroy();
+  gl_->scope.destroy();
+  glDeleteVertexArrays(1, &gl_->text_vao);
+  glDeleteBuffers(1, &gl_->text_vbo);
+  glDeleteTextures(1, &gl_->texture);
+}
+
+void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                            const TubeOptions& options, bool global) {
+  sampleColonRings(model, q, options, rings_);
+  TubeMesh& mesh = global ? colon_global_mesh_ : colon_mesh_;
+  buildColonMesh(rings_, options, mesh);
+  (global ? gl_->colon_global : gl_->colon).upload(mesh);
+  if (scope.centreline_m.size() >= 2) {
+    buildScopeMesh(scope, options, scope_mesh_);
+    gl_->scope.upload(scope_mesh_);
+  } else {
+    scope_mesh_ = TubeMesh{};
+    gl_->scope.index_count = 0;  // no scope yet (e.g. before insertion)
+  }
+}
+
+void Renderer::drawOnboard(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                           const CameraPose& camera, const Viewport& vp, const OnboardOptics& optics) {
+  if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
+  checkCameraPose(camera);
+  uploadMeshes(model, q, scope, tube_, /*global=*/false);
+  useViewport(vp);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+
+  const double aspect = static_cast<double>(vp.width) / vp.height;
+  const double fov_y = verticalFovFromDiagonal(optics.fov_diagonal_deg * kPi / 180, aspect);
+  const Mat4f vp_mat = perspectiveMatrix(fov_y, aspect, optics.near_m, optics.far_m) * viewMatrix(camera);
+  // One program per MODE; uniforms a mode does not use are optimised out (location -1),
+  // and glUniform ignores location -1.
+  auto use = [&](int mode) {
+    const GLuint p = gl_->scene[mode];
+    glUseProgram(p);
+    setMat4(p, "u_view_proj", vp_mat);
+    setVec3(p, "u_eye", camera.p_WC_m);
+    glUniform1f(glGetUniformLocation(p, "u_light_ref"), static_cast<float>(optics.light_ref_m));
+    glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
+    glUniform1f(glGetUniformLocation(p, "u_far"), static_cast<float>(optics.far_m));
+    glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
+    glUniform1i(glGetUniformLocation(p, "u_fisheye"), optics.barrel_distortion ? 1 : 0);
+    setMat4(p, "u_view", viewMatrix(camera));
+    glUniform1f(glGetUniformLocation(p, "u_half_angle"),
+                static_cast<float>(0.5 * optics.fov_diagonal_deg * kPi / 180));
+    glUniform1f(glGetUniformLocation(p, "u_aspect"), static_cast<float>(aspect));
+    glUniform2f(glGetUniformLocation(p, "u_near_far"), static_cast<float>(optics.near_m),
+                static_cast<float>(optics.far_m));
+    return p;
+  };
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, gl_->texture);
+  glEnable(GL_CLIP_DISTANCE0);
+  use(0);
+  std::vector<StripRun> runs;
+  visibleStrips(rings_, camera.p_WC_m, camera.R_WC.col(2), optics.far_m,
+                0.5 * optics.fov_diagonal_deg * kPi / 180, runs);
+  gl_->colon.drawRuns(runs, 6 * (colon_mesh_.ring_vertices - 1));
+  if (gl_->scope.index_count > 0) {
+    const GLuint p = use(1);
+    setVec3(p, "u_color", std::array<float, 3>{0.12f, 0.12f, 0.13f});  // black insertion tube
+    gl_->scope.draw();
+  }
+  glDisable(GL_CLIP_DISTANCE0);
+  glDisable(GL_SCISSOR_TEST);
+  glUseProgram(0);
+}
+
+void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,
+                          const OrbitCamera& camera, const Viewport& vp, const GlobalStyle& style) {
+  if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
+  TubeOptions coarse = tube_;
+  coarse.sides = style.colon_sides;
+  coarse.samples_per_segment = style.colon_samples_per_segment;
+  coarse.haustra = false;
+  uploadMeshes(model, q, scope, coarse, /*global=*/true);
+  useViewport(vp);
+  glClearColor(style.background[0], style.background[1], style.background[2], 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+
+  const CameraPose pose = camera.pose();
+  const double aspect = static_cast<double>(vp.width) / vp.height;
+  const Mat4f vp_mat = perspectiveMatrix(camera.fov_y_deg * kPi / 180, aspect, 0.05 * camera.distance_m,
+                                         4 * camera.distance_m + 1.0) *
+                       viewMatrix(pose);
+  auto use = [&](int mode) {
+    const GLuint p = gl_->scene[mode];
+    glUseProgram(p);
+    setMat4(p, "u_view_proj", vp_mat);
+    setVec3(p, "u_eye", pose.p_WC_m);
+    return p;
+  };
+  // The scope first, opaque, writing depth; then the colon blended over it without
+  // writing depth, so every wall layer shows and nothing hides the scope.
+  if (gl_->scope.index_count > 0) {
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
+    const GLuint p = use(3);
+    setVec3(p, "u_color", style.scope_rgb);
+    setVec3(p, "u_tip_color", style.tip_rgb);
+    setVec3(p, "u_tip_pos", scope.centreline_m.back());
+    glUniform1f(glGetUniformLocation(p, "u_tip_len"), static_cast<float>(style.tip_length_m));
+    gl_->scope.draw();
+  }
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  const GLuint p = use(2);
+  setVec3(p, "u_color", style.colon_rgb);
+  glUniform2f(glGetUniformLocation(p, "u_alpha"), style.colon_alpha_face, style.colon_alpha_silhouette);
+  gl_->colon_global.draw();
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glUseProgram(0);
+}
+
+void Renderer::drawText(const std::string& text, int x_px, int y_px, int scale,
+                        const std::array<float, 4>& rgba, const Viewport& vp) {
+  const std::vector<float> tris = textTriangles(text, x_px, y_px, scale);
+  if (tris.empty()) return;
+  useViewport(vp);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glUseProgram(gl_->text);
+  glUniform2f(glGetUniformLocation(gl_->text, "u_size"), static_cast<float>(vp.width),
+              static_cast<float>(vp.height));
+  glUniform4f(glGetUniformLocation(gl_->text, "u_rgba"), rgba[0], rgba[1], rgba[2], rgba[3]);
+  glBindVertexArray(gl_->text_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, gl_->text_vbo);
+  glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_STREAM_DRAW);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(tris.size() / 2));
+  glBindVertexArray(0);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glUseProgram(0);
+}
+
+Image readFramebuffer(const Viewport& vp) {
+  Image img(vp.width, vp.height);
+  std::vector<uint8_t> rows(img.rgba.size());
+  glFinish();
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  const size_t stride = static_cast<size_t>(vp.width) * 4;
+  for (int y = 0; y < vp.height; ++y)  // GL rows come bottom-up
+    std::copy_n(&rows[(vp.height - 1 - y) * stride], stride, img.at(0, y));
+  return img;
+}
+
+std::vector<unsigned> drainGlErrors() {
+  std::vector<unsigned> errors;
+  for (GLenum e = glGetError(); e != GL_NO_ERROR && errors.size() < 64; e = glGetError()) errors.push_back(e);
+  return errors;
+}
+
+}  // namespace colosim

@@ -1,0 +1,249 @@
+#include "render/tube_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace colosim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Two triangles per quad between ring i and ring i + 1.
+void addRingIndices(int rings, int ring_vertices, std::vector<uint32_t>& indices) {
+  for (int i = 0; i + 1 < rings; ++i) {
+    for (int j = 0; j + 1 < ring_vertices; ++j) {
+      const uint32_t a = i * ring_vertices + j, b = a + ring_vertices;
+      indices.insert(indices.end(), {a, b, a + 1, a + 1, b, b + 1});
+    }
+  }
+}
+
+// Vertex normals by central differences on the (ring, side) grid: n = d/d(along) x d/d(around),
+// turned to point towards (inward = true) or away from the ring centre.
+void gridNormals(const std::vector<Vec3>& centre, int rings, int rv, bool inward, std::vector<float>& v) {
+  auto P = [&](int i, int j) {
+    const float* p = &v[8 * (i * rv + j)];
+    return Vec3(p[0], p[1], p[2]);
+  };
+  const int sides = rv - 1;
+  for (int i = 0; i < rings; ++i) {
+    const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, rings - 1);
+    for (int j = 0; j < sides; ++j) {
+      const Vec3 along = P(i1, j) - P(i0, j);
+      const Vec3 around = P(i, (j + 1) % sides) - P(i, (j + sides - 1) % sides);
+      Vec3 n = along.cross(around);
+      const Vec3 to_centre = centre[i] - P(i, j);
+      if (n.norm() < 1e-300) n = to_centre;
+      n.normalize();
+      if ((n.dot(to_centre) < 0) == inward) n = -n;
+      for (int jj : {j, j == 0 ? sides : -1}) {
+        if (jj < 0) continue;
+        float* dst = &v[8 * (i * rv + jj) + 3];
+        dst[0] = static_cast<float>(n.x()), dst[1] = static_cast<float>(n.y()),
+        dst[2] = static_cast<float>(n.z());
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void sampleColonRings(const ColonModel& model, const Points& q, const TubeOptions& options,
+                      ColonRings& rings) {
+  if (q.cols() != model.n || model.n < 2)
+    throw std::invalid_argument("render: control points have " + std::to_string(q.cols()) +
+                                " columns, the colon model " + std::to_string(model.n));
+  if (!q.allFinite()) throw std::invalid_argument("render: control points are not finite");
+  const int S = std::max(1, options.samples_per_segment);
+  const int count = (model.n - 1) * S + 1;
+  rings.centre_m.resize(count);
+  rings.tangent.resize(count);
+  rings.radius_m.resize(count);
+  rings.s_rest_m.resize(count);
+  rings.fold_weight.resize(count);
+
+  // Fold weight per control point: 0 next to a rectum segment, else 1; linear within a
+  // segment, then limited by the rest distance to the rectum so folds fade in smoothly.
+  std::vector<double> s_rectum_end;  // rest arclength where each rectum stretch ends [m]
+  std::vector<char> rectum(model.n - 1, 0);
+  for (int j = 0; j + 1 < model.n; ++j) {
+    const int r = model.segment_region.empty() ? -1 : model.segment_region[j];
+    rectum[j] =
+        r >= 0 && r < static_cast<int>(model.region_names.size()) && model.region_names[r] == "rectum";
+  }
+  for (int k = 0; k < count; ++k) {
+    const int j = std::min(k / S, model.n - 2);
+    const double p = static_cast<double>(k - j * S) / S;
+    rings.centre_m[k] = splinePoint(q, j, p);
+    rings.tangent[k] = splineTangent(q, j, p);
+    rings.radius_m[k] = model.radiusAt(j, p);
+    rings.s_rest_m[k] = model.arclengthAt(j, p);
+  }
+  // Distance in rest arclength to the nearest rectum segment, by two sweeps over rings.
+  std::vector<double> dist(count, 1e300);
+  for (int k = 0; k < count; ++k) {
+    const int j = std::min(k / S, model.n - 2);
+    const bool in_rectum = rectum[j] || (k % S == 0 && j > 0 && rectum[j - 1]);
+    if (in_rectum) dist[k] = 0;
+  }
+  for (int k = 1; k < count; ++k)
+    dist[k] = std::min(dist[k], dist[k - 1] + rings.s_rest_m[k] - rings.s_rest_m[k - 1]);
+  for (int k = count - 2; k >= 0; --k)
+    dist[k] = std::min(dist[k], dist[k + 1] + rings.s_rest_m[k + 1] - rings.s_rest_m[k]);
+  const double ramp = std::max(options.fold_ramp_m, 1e-9);
+  for (int k = 0; k < count; ++k) {
+    const double x = std::clamp(dist[k] / ramp, 0.0, 1.0);
+    rings.fold_weight[k] = x * x * (3 - 2 * x);  // smoothstep
+  }
+
+  const Vec3 r0 = initialNormal(splineTangent(q, 0, 0.0), splineSecondDerivative(q, 0, 0.0));
+  rotationMinimisingFrames(rings.centre_m, rings.tangent, r0, rings.frame);
+}
+
+double haustralRadius(double radius_m, double s_rest_m, double theta_rad, double fold_weight,
+                      const TubeOptions& options) {
+  if (!options.haustra || fold_weight <= 0) return radius_m;
+  const double P = options.fold_period_m;
+  const double phase = s_rest_m / P - std::floor(s_rest_m / P);
+  const double d_m = std::min(phase, 1 - phase) * P;  // rest distance to the nearest fold [m]
+  const double sn = std::sin(1.5 * theta_rad);
+  const double taenia = 0.35 + 0.65 * sn * sn;
+  const double g = std::exp(-(d_m / options.fold_width_m) * (d_m / options.fold_width_m));
+  return radius_m * (1 - options.fold_depth * fold_weight * taenia * g);
+}
+
+void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMesh& mesh) {
+  const int count = static_cast<int>(rings.centre_m.size());
+  const int sides = std::max(3, options.sides);
+  const int rv = sides + 1;
+  // The topology depends only on the ring and side counts: keep it from the last frame.
+  const bool same_topology = mesh.rings == count && mesh.ring_vertices == rv &&
+                             mesh.indices.size() == static_cast<size_t>(6) * (count - 1) * sides;
+  mesh.rings = count;
+  mesh.ring_vertices = rv;
+  mesh.vertices.resize(static_cast<size_t>(count) * rv * TubeMesh::kFloatsPerVertex);
+  std::vector<double> c(rv), s(rv);
+  for (int j = 0; j < rv; ++j) {
+    const double th = 2 * kPi * (j % sides) / sides;  // the seam vertex repeats j = 0 exactly
+    c[j] = std::cos(th), s[j] = std::sin(th);
+  }
+  // haustralRadius factorised: the fold profile per ring, the taenia factor per side
+  // (exp and sin once per ring and side, not per vertex: this runs every frame).
+  std::vector<double> taenia(rv);
+  for (int j = 0; j < rv; ++j) {
+    const double sn = std::sin(1.5 * 2 * kPi * (j % sides) / sides);
+    taenia[j] = 0.35 + 0.65 * sn * sn;
+  }
+  for (int i = 0; i < count; ++i) {
+    const CurveFrame& f = rings.frame[i];
+    const float v = static_cast<float>(rings.s_rest_m[i] / options.texture_tile_m);
+    // fold = depth * w * exp(-(d / width)^2), so r = R (1 - fold * taenia_j) as in haustralRadius.
+    const double fold =
+        haustralRadius(1.0, rings.s_rest_m[i], 0.5 * kPi / 1.5, rings.fold_weight[i], options);
+    const double fold_amount = 1.0 - fold;  // at theta where taenia = 1
+    const double R = rings.radius_m[i];
+    for (int j = 0; j < rv; ++j) {
+      const double r = R * (1 - fold_amount * taenia[j]);
+      const Vec3 p = rings.centre_m[i] + r * (c[j] * f.r + s[j] * f.s);
+      float* dst = &mesh.vertices[8 * (static_cast<size_t>(i) * rv + j)];
+      dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()),
+      dst[2] = static_cast<float>(p.z());
+      dst[6] = static_cast<float>(j) / sides;
+      dst[7] = v;
+    }
+  }
+  gridNormals(rings.centre_m, count, rv, /*inward=*/true, mesh.vertices);
+  if (!same_topology) {
+    mesh.indices.clear();
+    addRingIndices(count, rv, mesh.indices);
+  }
+}
+
+void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions& options, TubeMesh& mesh) {
+  ColonRings rings;
+  sampleColonRings(model, q, options, rings);
+  buildColonMesh(rings, options, mesh);
+}
+
+void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,
+                   double half_fov_rad, std::vector<StripRun>& runs) {
+  runs.clear();
+  const int count = static_cast<int>(rings.centre_m.size());
+  const double cos_fov = std::cos(half_fov_rad), sin_fov = std::sin(half_fov_rad);
+  auto visible = [&](int i) {
+    const Vec3 d = rings.centre_m[i] - eye_m;
+    const double r = rings.radius_m[i];  // folds only narrow the ring: r bounds it
+    const double dist = d.norm();
+    if (dist > far_m + r) return false;
+    if (dist <= r) return true;  // the camera is inside this ring's sphere
+    // Inside the cone widened by the ring's bounding sphere: the axis angle of d is at
+    // most half_fov + asin(r / dist), i.e. cos(angle) >= cos(half_fov + asin(r / dist)).
+    const double sa = r / dist, ca = std::sqrt(1 - sa * sa);
+    return d.dot(forward) >= dist * (cos_fov * ca - sin_fov * sa);
+  };
+  bool prev = count > 0 && visible(0);
+  for (int i = 0; i + 1 < count; ++i) {
+    const bool next = visible(i + 1);
+    if (prev || next) {
+      if (!runs.empty() && runs.back().end == i)
+        ++runs.back().end;
+      else
+        runs.push_back({i, i + 1});
+    }
+    prev = next;
+  }
+}
+
+void buildScopeMesh(const ScopeShape& scope, const TubeOptions& options, TubeMesh& mesh) {
+  const int n = static_cast<int>(scope.centreline_m.size());
+  if (n < 2) throw std::invalid_argument("render: the scope needs at least two centreline points");
+  if (!(scope.radius_m > 0) || !std::isfinite(scope.radius_m))
+    throw std::invalid_argument("render: the scope radius must be positive");
+  for (const Vec3& p : scope.centreline_m)
+    if (!p.allFinite()) throw std::invalid_argument("render: scope centreline is not finite");
+  std::vector<Vec3> tangent(n);
+  for (int i = 0; i < n; ++i)
+    tangent[i] = scope.centreline_m[std::min(i + 1, n - 1)] - scope.centreline_m[std::max(i - 1, 0)];
+  for (int i = 0; i < n; ++i)
+    if (tangent[i].norm() < 1e-12) tangent[i] = i > 0 ? tangent[i - 1] : Vec3::UnitZ();
+  std::vector<CurveFrame> frames;
+  const Vec3 d2 =
+      n >= 3 ? Vec3(scope.centreline_m[2] - 2 * scope.centreline_m[1] + scope.centreline_m[0]) : Vec3::Zero();
+  rotationMinimisingFrames(scope.centreline_m, tangent, initialNormal(tangent[0], d2), frames);
+
+  const int sides = std::max(3, options.scope_sides);
+  const int rv = sides + 1;
+  mesh.rings = n;
+  mesh.ring_vertices = rv;
+  // Ring vertices, then one centre vertex closing the tip.
+  mesh.vertices.assign((static_cast<size_t>(n) * rv + 1) * TubeMesh::kFloatsPerVertex, 0.0f);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < rv; ++j) {
+      const double th = 2 * kPi * (j % sides) / sides;
+      const Vec3 p =
+          scope.centreline_m[i] + scope.radius_m * (std::cos(th) * frames[i].r + std::sin(th) * frames[i].s);
+      float* dst = &mesh.vertices[8 * (static_cast<size_t>(i) * rv + j)];
+      dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()),
+      dst[2] = static_cast<float>(p.z());
+      dst[6] = static_cast<float>(j) / sides;
+    }
+  }
+  gridNormals(scope.centreline_m, n, rv, /*inward=*/false, mesh.vertices);
+  mesh.indices.clear();
+  addRingIndices(n, rv, mesh.indices);
+  const uint32_t tip = static_cast<uint32_t>(n) * rv;
+  float* t = &mesh.vertices[8 * static_cast<size_t>(tip)];
+  const Vec3& p = scope.centreline_m[n - 1];
+  const Vec3 axis = frames[n - 1].t;
+  t[0] = static_cast<float>(p.x()), t[1] = static_cast<float>(p.y()), t[2] = static_cast<float>(p.z());
+  t[3] = static_cast<float>(axis.x()), t[4] = static_cast<float>(axis.y()),
+  t[5] = static_cast<float>(axis.z());
+  for (int j = 0; j < sides; ++j) {
+    const uint32_t a = (n - 1) * rv + j;
+    mesh.indices.insert(mesh.indices.end(), {a, a + 1, tip});
+  }
+}
+
+}  // namespace colosim

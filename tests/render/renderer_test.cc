@@ -1,0 +1,292 @@
+// Headless rendering through OSMesa: what the images show, measured on their pixels.
+// Set COLOSIM_RENDER_DUMP=/some/dir to keep the images as PNG files for a look.
+#include "render/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <memory>
+
+#include "render/offscreen_context.h"
+#include "render/overlay_font.h"
+#include "tests/fixture.h"
+#include "tests/render/render_fixture.h"
+
+namespace colosim {
+namespace {
+
+double luminance(const uint8_t* p) { return (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) / 255.0; }
+
+// Mean luminance over pixels whose distance from the image centre, in units of half the
+// image height, lies in [r0, r1).
+double meanInAnnulus(const Image& img, double r0, double r1) {
+  double sum = 0;
+  int count = 0;
+  const double cx = 0.5 * img.width, cy = 0.5 * img.height, h = 0.5 * img.height;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const double r = std::hypot(x + 0.5 - cx, y + 0.5 - cy) / h;
+      if (r >= r0 && r < r1) sum += luminance(img.at(x, y)), ++count;
+    }
+  return sum / count;
+}
+
+double meanImage(const Image& img) { return meanInAnnulus(img, 0, 1e9); }
+
+void dump(const Image& img, const std::string& name) {
+  if (const char* dir = std::getenv("COLOSIM_RENDER_DUMP"))
+    writePng(std::string(dir) + "/" + name + ".png", img);
+}
+
+class RenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    ctx_ = new OffscreenContext(320, 240);
+    renderer_ = new Renderer();
+  }
+  static void TearDownTestSuite() {
+    delete renderer_;
+    delete ctx_;
+  }
+  void SetUp() override { ctx_->resize(320, 240); }
+  void TearDown() override {
+    const std::vector<unsigned> errors = drainGlErrors();
+    EXPECT_TRUE(errors.empty()) << "GL error 0x" << std::hex << (errors.empty() ? 0 : errors[0]);
+  }
+  static OffscreenContext* ctx_;
+  static Renderer* renderer_;
+};
+OffscreenContext* RenderTest::ctx_ = nullptr;
+Renderer* RenderTest::renderer_ = nullptr;
+
+Image onboard(OffscreenContext& ctx, Renderer& r, const ColonModel& colon, const CameraPose& cam,
+              const OnboardOptics& optics = {}) {
+  const ScopeShape no_scope;
+  r.drawOnboard(colon, colon.q_rest, no_scope, cam, Viewport{0, 0, ctx.width(), ctx.height()}, optics);
+  EXPECT_TRUE(drainGlErrors().empty());
+  return ctx.read();
+}
+
+// Looking down a straight colon from its axis: the far lumen is dark, the near wall all
+// around is bright, as in a colonoscope image.
+TEST_F(RenderTest, OnboardStraightColonDarkCentreBrightRing) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  for (bool barrel : {true, false}) {
+    OnboardOptics optics;
+    optics.barrel_distortion = barrel;
+    const Image img =
+        onboard(*ctx_, *renderer_, colon, lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), optics);
+    dump(img, barrel ? "onboard_straight" : "onboard_straight_rectilinear");
+    const double centre = meanInAnnulus(img, 0, 0.12);
+    const double ring = meanInAnnulus(img, 0.55, 0.95);
+    // The centre looks 0.3 m down the lumen: a few % of the near wall's light.
+    EXPECT_LT(centre, 0.1) << "barrel " << barrel;
+    EXPECT_GT(ring, 0.3) << "barrel " << barrel;
+    EXPECT_GT(ring, 5 * centre) << "barrel " << barrel;
+    // Brightness rises monotonically from the centre outwards (annuli of 0.15 half-heights).
+    double prev = -1;
+    for (double r0 = 0; r0 < 0.6; r0 += 0.15) {
+      const double m = meanInAnnulus(img, r0, r0 + 0.15);
+      EXPECT_GT(m, prev) << "annulus at " << r0 << ", barrel " << barrel;
+      prev = m;
+    }
+  }
+}
+
+// Moving the tip towards the wall (sideways from the axis, still looking along it) makes
+// the image brighter: the tip light's irradiance falls off with distance.
+TEST_F(RenderTest, OnboardBrighterNearTheWall) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  double prev = 0;
+  for (double offset_m : {0.0, 0.008, 0.014}) {
+    const Image img =
+        onboard(*ctx_, *renderer_, colon, lookAlong(Vec3(offset_m, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()));
+    const double m = meanImage(img);
+    EXPECT_GT(m, prev * 1.05) << "offset " << offset_m;
+    prev = m;
+  }
+  // And facing the wall head on, closer is brighter.
+  prev = 0;
+  for (double gap_m : {0.015, 0.008}) {
+    const Image img = onboard(*ctx_, *renderer_, colon,
+                              lookAlong(Vec3(0.02 - gap_m, 0, 0.15), Vec3::UnitX(), Vec3::UnitZ()));
+    dump(img, "onboard_wall_" + std::to_string(static_cast<int>(gap_m * 1000)) + "mm");
+    const double m = meanImage(img);
+    EXPECT_GT(m, prev * 1.1) << "gap " << gap_m;
+    prev = m;
+  }
+}
+
+// The scope itself: behind the lens it is invisible (every pixel as without it), and
+// retroflexed (the tip bent back to look at the shaft) it fills part of the image.
+TEST_F(RenderTest, OnboardShowsTheScopeOnlyWhenRetroflexed) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  auto differing = [](const Image& a, const Image& b) {
+    int n = 0;
+    for (size_t k = 0; k < a.rgba.size(); k += 4)
+      n += std::abs(a.rgba[k] - b.rgba[k]) + std::abs(a.rgba[k + 1] - b.rgba[k + 1]) > 6;
+    return n;
+  };
+  for (bool barrel : {true, false}) {
+    OnboardOptics optics;
+    optics.barrel_distortion = barrel;
+    // Straight insertion: the scope runs up the axis to the lens.
+    ScopeShape straight;
+    for (int i = 0; i <= 20; ++i) straight.centreline_m.push_back(Vec3(0, 0, 0.005 * i));
+    const CameraPose ahead = lookAlong(Vec3(0, 0, 0.1), Vec3::UnitZ(), Vec3::UnitY());
+    renderer_->drawOnboard(colon, colon.q_rest, straight, ahead, Viewport{0, 0, 320, 240}, optics);
+    const Image with = ctx_->read();
+    renderer_->drawOnboard(colon, colon.q_rest, ScopeShape{}, ahead, Viewport{0, 0, 320, 240}, optics);
+    EXPECT_EQ(differing(with, ctx_->read()), 0) << "barrel " << barrel;
+    // Retroflexed: up x = -9 mm to z = 0.2, a U-turn of 9 mm radius, down to z = 0.185.
+    ScopeShape retro;
+    for (double z = 0; z < 0.2; z += 0.005) retro.centreline_m.push_back(Vec3(-0.009, 0, z));
+    for (int k = 0; k <= 12; ++k) {
+      const double a = 3.14159265358979 * k / 12;
+      retro.centreline_m.push_back(Vec3(-0.009 * std::cos(a), 0, 0.2 + 0.009 * std::sin(a)));
+    }
+    retro.centreline_m.push_back(Vec3(0.009, 0, 0.185));
+    const CameraPose back = lookAlong(Vec3(0.009, 0, 0.185), -Vec3::UnitZ(), Vec3::UnitY());
+    renderer_->drawOnboard(colon, colon.q_rest, retro, back, Viewport{0, 0, 320, 240}, optics);
+    const Image shaft = ctx_->read();
+    dump(shaft, barrel ? "onboard_retroflexed" : "onboard_retroflexed_rectilinear");
+    renderer_->drawOnboard(colon, colon.q_rest, ScopeShape{}, back, Viewport{0, 0, 320, 240}, optics);
+    EXPECT_GT(differing(shaft, ctx_->read()), 320 * 240 / 20) << "barrel " << barrel;
+  }
+}
+
+// The scope-position display of an alpha loop: the scope's (green or yellow-tipped)
+// pixels are present through the see-through colon, and they enclose a hole: flooding
+// the other pixels from the image border leaves the loop's inside unreached.
+TEST_F(RenderTest, GlobalViewShowsTheScopeLoop) {
+  ctx_->resize(400, 400);
+  const std::vector<Vec3> path = test::alphaLoopPath(0.06, 0.01);
+  const ColonModel colon = test::colonThrough(test::toPoints(path), 0.016);
+  ScopeShape scope;
+  scope.centreline_m = path;
+  Vec3 lo = colon.q_rest.rowwise().minCoeff(), hi = colon.q_rest.rowwise().maxCoeff();
+  const OrbitCamera cam = frameBox(lo, hi, 1.0);
+  renderer_->drawGlobal(colon, colon.q_rest, scope, cam, 400, 400);
+  ASSERT_TRUE(drainGlErrors().empty());
+  const Image img = ctx_->read();
+  dump(img, "global_alpha_loop");
+
+  const int W = img.width, H = img.height;
+  std::vector<char> scope_px(W * H, 0), reached(W * H, 0);
+  int n_scope = 0, n_colon = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const uint8_t* p = img.at(x, y);
+      const bool green = p[1] > p[0] + 40 && p[1] > p[2] + 40;
+      const bool tip = p[0] > 150 && p[1] > 120 && p[2] < 90;
+      scope_px[y * W + x] = green || tip;
+      n_scope += green || tip;
+      n_colon += p[0] > p[1] + 20 && p[0] > 60;  // pinkish wall
+    }
+  EXPECT_GT(n_scope, 0.01 * W * H);
+  EXPECT_GT(n_colon, 0.01 * W * H) << "the colon should be visible too";
+  std::deque<int> queue;
+  auto push = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= W || y >= H) return;
+    const int k = y * W + x;
+    if (reached[k] || scope_px[k]) return;
+    reached[k] = 1;
+    queue.push_back(k);
+  };
+  for (int x = 0; x < W; ++x) push(x, 0), push(x, H - 1);
+  for (int y = 0; y < H; ++y) push(0, y), push(W - 1, y);
+  while (!queue.empty()) {
+    const int k = queue.front();
+    queue.pop_front();
+    push(k % W + 1, k / W), push(k % W - 1, k / W), push(k % W, k / W + 1), push(k % W, k / W - 1);
+  }
+  int enclosed = 0;
+  for (int k = 0; k < W * H; ++k) enclosed += !reached[k] && !scope_px[k];
+  EXPECT_GT(enclosed, 0.02 * W * H) << "no hole enclosed by the scope: the loop is not visible";
+  // The loop's centre (0, 0, 0.12) projects into that hole.
+  const Eigen::Vector4f c = perspectiveMatrix(cam.fov_y_deg * 3.14159265358979 / 180, 1.0, 0.01, 10) *
+                            viewMatrix(cam.pose()) * Eigen::Vector4f(0, 0, 0.12f, 1);
+  const int px = static_cast<int>((c.x() / c.w() * 0.5 + 0.5) * W);
+  const int py = static_cast<int>((0.5 - c.y() / c.w() * 0.5) * H);
+  ASSERT_TRUE(px >= 0 && px < W && py >= 0 && py < H);
+  EXPECT_FALSE(reached[py * W + px]) << "the loop centre is reachable from the border";
+}
+
+// Any view at any size exports as a valid PNG of that size holding the image read back.
+TEST_F(RenderTest, PngExportAtRequestedSize) {
+  test::TempDir dir;
+  const ColonModel colon = test::straightColon();
+  ScopeShape scope;
+  for (int i = 0; i <= 10; ++i) scope.centreline_m.push_back(Vec3(0, 0, 0.006 * i));
+  for (auto [w, h] : {std::pair{317, 203}, std::pair{64, 48}, std::pair{1024, 768}}) {
+    ctx_->resize(w, h);
+    renderer_->drawOnboard(colon, colon.q_rest, scope,
+                           lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), w, h);
+    const Image on = ctx_->read();
+    writePng(dir.file("onboard.png"), on);
+    const Image back = readPng(dir.file("onboard.png"));
+    EXPECT_EQ(back.width, w);
+    EXPECT_EQ(back.height, h);
+    EXPECT_EQ(back.rgba, on.rgba);
+    renderer_->drawGlobal(colon, colon.q_rest, scope,
+                          frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), static_cast<double>(w) / h),
+                          w, h);
+    const Image gl = ctx_->read();
+    writePng(dir.file("global.png"), gl);
+    EXPECT_EQ(readPng(dir.file("global.png")).rgba, gl.rgba);
+    EXPECT_TRUE(drainGlErrors().empty()) << w << " x " << h;
+  }
+}
+
+// Split view into one framebuffer: each half shows its own view and nothing else.
+TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
+  ctx_->resize(400, 200);
+  const ColonModel colon = test::straightColon();
+  const ScopeShape scope{{Vec3(0, 0, 0), Vec3(0, 0, 0.06)}, 0.0065};
+  renderer_->drawGlobal(colon, colon.q_rest, scope,
+                        frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), 1.0),
+                        Viewport{200, 0, 200, 200});
+  renderer_->drawOnboard(colon, colon.q_rest, scope,
+                         lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), Viewport{0, 0, 200, 200});
+  const Image img = ctx_->read();
+  dump(img, "split");
+  // The global view's background colour survives in the right half's corner.
+  const uint8_t* corner = img.at(399, 0);
+  const GlobalStyle style;
+  EXPECT_NEAR(corner[2], std::lround(style.background[2] * 255), 1);
+  // The onboard left half is the same as a full-size onboard render of that size.
+  ctx_->resize(200, 200);
+  renderer_->drawOnboard(colon, colon.q_rest, scope,
+                         lookAlong(Vec3(0, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY()), 200, 200);
+  const Image alone = ctx_->read();
+  int differing = 0;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x)
+      for (int c = 0; c < 3; ++c) differing += std::abs(alone.at(x, y)[c] - img.at(x, y)[c]) > 2;
+  EXPECT_EQ(differing, 0);
+}
+
+// The overlay font lights exactly its glyph pixels.
+TEST_F(RenderTest, TextOverlayDrawsTheGlyphs) {
+  ctx_->resize(200, 60);
+  const ColonModel colon = test::straightColon();
+  renderer_->drawGlobal(colon, colon.q_rest, ScopeShape{},
+                        frameBox(Vec3(-1, -1, -1), Vec3(-0.9, -0.9, -0.9), 1), 200, 60);
+  const std::string text = "12.5 CM";
+  renderer_->drawText(text, 10, 10, 3, {1, 1, 1, 1}, Viewport{0, 0, 200, 60});
+  const Image img = ctx_->read();
+  dump(img, "text");
+  int white = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) white += img.at(x, y)[0] == 255 && img.at(x, y)[1] == 255;
+  const size_t lit = textTriangles(text, 0, 0, 1).size() / 12;  // 12 floats per font pixel
+  EXPECT_EQ(white, static_cast<int>(lit) * 9);
+  EXPECT_EQ(img.at(10 + 3 * 2 + 1, 10 + 1)[0], 255);  // "1": row 0 lights only column 2
+  EXPECT_LT(img.at(10 + 1, 10 + 1)[0], 255);
+}
+
+}  // namespace
+}  // namespace colosim

@@ -1,0 +1,192 @@
+#include "render/tube_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tests/fixture.h"
+#include "tests/render/render_fixture.h"
+#include "trainer/assets.h"
+
+namespace colosim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class AdultMesh : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const Parameters params = loadParameters(test::asset("params/default.json"));
+    model_ = new ColonModel(loadColonModel(test::asset("anatomy/adult.json"), params));
+  }
+  static void TearDownTestSuite() { delete model_; }
+  static ColonModel* model_;
+};
+ColonModel* AdultMesh::model_ = nullptr;
+
+TEST_F(AdultMesh, SizesSeamAndNormals) {
+  const TubeOptions opt;
+  ColonRings rings;
+  sampleColonRings(*model_, model_->q_rest, opt, rings);
+  TubeMesh mesh;
+  buildColonMesh(rings, opt, mesh);
+  ASSERT_EQ(mesh.rings, static_cast<int>(rings.centre_m.size()));
+  ASSERT_EQ(mesh.ring_vertices, opt.sides + 1);
+  ASSERT_EQ(mesh.vertexCount(), mesh.rings * mesh.ring_vertices);
+  ASSERT_EQ(mesh.indices.size(), static_cast<size_t>(6 * (mesh.rings - 1) * opt.sides));
+  for (uint32_t idx : mesh.indices) ASSERT_LT(idx, static_cast<uint32_t>(mesh.vertexCount()));
+  for (int i = 0; i < mesh.rings; ++i) {
+    const int first = i * mesh.ring_vertices, seam = first + opt.sides;
+    // The seam vertex repeats the first one's position and normal, with u = 1 instead of 0.
+    EXPECT_EQ(mesh.position(first), mesh.position(seam));
+    EXPECT_EQ(mesh.normal(first), mesh.normal(seam));
+    EXPECT_EQ(mesh.u(first), 0.0f);
+    EXPECT_EQ(mesh.u(seam), 1.0f);
+    for (int j = 0; j < mesh.ring_vertices; ++j) {
+      const int v = first + j;
+      EXPECT_NEAR(mesh.normal(v).norm(), 1.0, 1e-5);
+      // The wall faces the lumen (where the onboard camera is).
+      EXPECT_GT(mesh.normal(v).dot(rings.centre_m[i] - mesh.position(v)), 0.0) << "ring " << i;
+    }
+  }
+}
+
+// Every vertex sits at the fold-modulated radius in its ring's plane; the rectum has no
+// folds (exactly the local radius), the other regions narrow at the folds.
+TEST_F(AdultMesh, RadiusHaustraAndRectum) {
+  const TubeOptions opt;
+  ColonRings rings;
+  sampleColonRings(*model_, model_->q_rest, opt, rings);
+  TubeMesh mesh;
+  buildColonMesh(rings, opt, mesh);
+  int rectum_rings = 0;
+  double min_ratio_outside = 1;
+  for (int i = 0; i < mesh.rings; ++i) {
+    const int seg = std::min(i / opt.samples_per_segment, model_->n - 2);
+    const bool rectum = model_->region_names[model_->segment_region[seg]] == "rectum";
+    for (int j = 0; j < opt.sides; ++j) {
+      const Vec3 d = mesh.position(i * mesh.ring_vertices + j) - rings.centre_m[i];
+      EXPECT_NEAR(d.dot(rings.frame[i].t), 0.0, 1e-6);
+      const double r = d.norm();
+      EXPECT_NEAR(r,
+                  haustralRadius(rings.radius_m[i], rings.s_rest_m[i], 2 * kPi * j / opt.sides,
+                                 rings.fold_weight[i], opt),
+                  1e-6);
+      if (rectum)
+        EXPECT_NEAR(r, rings.radius_m[i], 1e-6) << "a fold in the rectum, ring " << i;
+      else
+        min_ratio_outside = std::min(min_ratio_outside, r / rings.radius_m[i]);
+    }
+    rectum_rings += rectum;
+  }
+  EXPECT_GT(rectum_rings, 50);
+  EXPECT_LT(min_ratio_outside, 1 - 0.8 * opt.fold_depth);
+  // Folds recur with the period in rest arclength: count narrowings in the transverse colon.
+  int folds = 0;
+  for (int i = 1; i + 1 < mesh.rings; ++i) {
+    const int seg = std::min(i / opt.samples_per_segment, model_->n - 2);
+    if (model_->region_names[model_->segment_region[seg]] != "transverse") continue;
+    auto ratio = [&](int k) {
+      return haustralRadius(1.0, rings.s_rest_m[k], kPi / 3, rings.fold_weight[k], opt);
+    };
+    if (ratio(i) < ratio(i - 1) && ratio(i) <= ratio(i + 1) && ratio(i) < 0.95) ++folds;
+  }
+  double transverse_m = 0;
+  for (int j = 0; j + 1 < model_->n; ++j)
+    if (model_->region_names[model_->segment_region[j]] == "transverse")
+      transverse_m += model_->segment_length_m(j);
+  EXPECT_NEAR(folds, transverse_m / opt.fold_period_m, 1.5);
+}
+
+// Texture coordinates follow the tissue: stretching the colon by 20 % moves the
+// vertices but leaves every (u, v) unchanged; v is the rest arclength over the tile.
+TEST_F(AdultMesh, TextureDoesNotSwimWhenStretched) {
+  const TubeOptions opt;
+  TubeMesh rest, stretched;
+  buildColonMesh(*model_, model_->q_rest, opt, rest);
+  buildColonMesh(*model_, Points(1.2 * model_->q_rest), opt, stretched);
+  ASSERT_EQ(rest.vertexCount(), stretched.vertexCount());
+  double moved = 0;
+  for (int v = 0; v < rest.vertexCount(); ++v) {
+    ASSERT_EQ(rest.u(v), stretched.u(v));
+    ASSERT_EQ(rest.v(v), stretched.v(v));
+    moved = std::max(moved, (rest.position(v) - stretched.position(v)).norm());
+  }
+  EXPECT_GT(moved, 0.05);
+  const int last = rest.vertexCount() - 1;
+  EXPECT_NEAR(rest.v(last), model_->length_m() / opt.texture_tile_m, 1e-4);
+}
+
+// The CPU cull never drops a strip the camera could see: brute force over every vertex
+// of every culled strip, from cameras all along the colon looking both ways.
+TEST_F(AdultMesh, VisibleStripsKeepsEverythingInView) {
+  const TubeOptions opt;
+  ColonRings rings;
+  sampleColonRings(*model_, model_->q_rest, opt, rings);
+  TubeMesh mesh;
+  buildColonMesh(rings, opt, mesh);
+  const double far_m = 0.3, half_fov = 70 * kPi / 180;
+  std::vector<StripRun> runs;
+  int culled_total = 0;
+  for (size_t k = 5; k < rings.centre_m.size(); k += 97) {
+    for (double dir : {1.0, -1.0}) {
+      const Vec3 eye = rings.centre_m[k] + 0.5 * rings.radius_m[k] * rings.frame[k].r;
+      const Vec3 fwd = dir * rings.frame[k].t;
+      visibleStrips(rings, eye, fwd, far_m, half_fov, runs);
+      std::vector<char> kept(mesh.rings - 1, 0);
+      for (const StripRun& r : runs) {
+        ASSERT_LT(r.first, r.end);
+        for (int i = r.first; i < r.end; ++i) kept[i] = 1;
+      }
+      for (int i = 0; i + 1 < mesh.rings; ++i) {
+        if (kept[i]) continue;
+        ++culled_total;
+        for (int ring : {i, i + 1})
+          for (int j = 0; j < mesh.ring_vertices; ++j) {
+            const Vec3 d = mesh.position(ring * mesh.ring_vertices + j) - eye;
+            const bool in_view = d.norm() < far_m && d.dot(fwd) > d.norm() * std::cos(half_fov);
+            ASSERT_FALSE(in_view) << "strip " << i << " culled but vertex " << j << " is in view";
+          }
+      }
+    }
+  }
+  EXPECT_GT(culled_total, 1000) << "the cull should drop something";
+}
+
+TEST(TubeMesh, RejectsBadControlPoints) {
+  const ColonModel model = test::straightColon();
+  TubeMesh mesh;
+  EXPECT_THROW(buildColonMesh(model, Points(3, model.n - 1), TubeOptions{}, mesh), std::invalid_argument);
+  Points q = model.q_rest;
+  q(1, 3) = std::nan("");
+  EXPECT_THROW(buildColonMesh(model, q, TubeOptions{}, mesh), std::invalid_argument);
+}
+
+TEST(ScopeMesh, TubeAtTheScopeRadiusClosedAtTheTip) {
+  ScopeShape scope;
+  scope.centreline_m = test::alphaLoopPath();
+  scope.radius_m = 0.0065;
+  const TubeOptions opt;
+  TubeMesh mesh;
+  buildScopeMesh(scope, opt, mesh);
+  const int n = static_cast<int>(scope.centreline_m.size());
+  ASSERT_EQ(mesh.vertexCount(), n * (opt.scope_sides + 1) + 1);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < opt.scope_sides; ++j) {
+      const int v = i * mesh.ring_vertices + j;
+      const Vec3 d = mesh.position(v) - scope.centreline_m[i];
+      EXPECT_NEAR(d.norm(), scope.radius_m, 1e-6);
+      EXPECT_GT(mesh.normal(v).dot(d), 0.0);  // outward
+    }
+  }
+  EXPECT_LT((mesh.position(mesh.vertexCount() - 1) - scope.centreline_m.back()).norm(), 1e-6);
+  ScopeShape bad = scope;
+  bad.centreline_m.resize(1);
+  EXPECT_THROW(buildScopeMesh(bad, opt, mesh), std::invalid_argument);
+  bad = scope;
+  bad.radius_m = 0;
+  EXPECT_THROW(buildScopeMesh(bad, opt, mesh), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace colosim
