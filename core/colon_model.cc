@@ -6,11 +6,11 @@
 namespace colosim {
 
 Vec3 gravityForPosition(const std::string& position, double g) {
-  // Patient frame: x towards the patient's left, y anterior, z cranial.
+  // Patient frame (LPS): x towards the patient's left, y posterior, z cranial.
   if (position == "left_lateral") return Vec3(g, 0, 0);    // lying on the left side
   if (position == "right_lateral") return Vec3(-g, 0, 0);
-  if (position == "supine") return Vec3(0, -g, 0);         // on the back
-  if (position == "prone") return Vec3(0, g, 0);
+  if (position == "supine") return Vec3(0, g, 0);          // on the back: towards posterior
+  if (position == "prone") return Vec3(0, -g, 0);
   throw std::invalid_argument("unknown patient_position '" + position +
                               "' (expected left_lateral, right_lateral, supine or prone)");
 }

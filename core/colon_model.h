@@ -24,7 +24,8 @@ struct AnatomyRegion {
 };
 
 /// A colon centreline from the anus to the caecal pole, in the patient frame:
-/// x towards the patient's left, y anterior, z cranial; origin at the anus [m].
+/// x towards the patient's left, y posterior, z cranial (DICOM's LPS, right-handed);
+/// origin at the anus [m].
 struct Anatomy {
   std::string name;
   std::vector<AnatomyRegion> regions;

@@ -15,7 +15,7 @@ WorldModel makeWorldModel(ColonModel colon, const ScopeParams& scope, const Cont
   WorldModel m;
   const Vec3 anus = colon.q_rest.col(0);
   const Vec3 entry = splineTangent(colon.q_rest, 0, 0.0);
-  m.scope = buildScopeModel(scope, anus, entry, Vec3(0, 1, 0), colon.gravity_m_per_s2);
+  m.scope = buildScopeModel(scope, anus, entry, Vec3(0, -1, 0), colon.gravity_m_per_s2);
   m.colon = std::move(colon);
   m.contact = contact;
   return m;

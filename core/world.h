@@ -23,7 +23,7 @@ struct WorldModel {
 };
 
 /// The scope enters at the colon's first control point (the anus), along the spline's
-/// tangent there; d2 ("up") faces anterior (+y) at zero handle rotation.
+/// tangent there; d2 ("up") faces anterior (-y) at zero handle rotation.
 WorldModel makeWorldModel(ColonModel colon, const ScopeParams& scope, const ContactParams& contact);
 
 struct WorldState {

@@ -50,8 +50,9 @@ void OrbitCamera::pan(double dx, double dy) {
 void OrbitCamera::zoom(double factor) { distance_m = std::clamp(distance_m * factor, 0.05, 10.0); }
 
 CameraPose OrbitCamera::pose() const {
-  // Eye direction from the target: anterior (+y) rotated by yaw about z, raised by pitch.
-  const Vec3 dir(-std::sin(yaw_rad) * std::cos(pitch_rad), std::cos(yaw_rad) * std::cos(pitch_rad),
+  // Eye direction from the target: anterior (-y in the LPS patient frame) rotated by yaw
+  // about z, raised by pitch. From the front, the patient's left (+x) is on screen right.
+  const Vec3 dir(std::sin(yaw_rad) * std::cos(pitch_rad), -std::cos(yaw_rad) * std::cos(pitch_rad),
                  std::sin(pitch_rad));
   return lookAlong(target_m + distance_m * dir, -dir, Vec3::UnitZ());
 }

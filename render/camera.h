@@ -41,7 +41,7 @@ struct OnboardOptics {
 };
 
 /// Orbit camera of the global view: looks at `target_m` from `distance_m` away, from the
-/// direction given by yaw (about the patient's cranial z axis, 0 = from anterior +y) and
+/// direction given by yaw (about the patient's cranial z axis, 0 = from anterior, -y in LPS) and
 /// pitch (elevation above the x-y plane) [rad]. Orthographic-like narrow perspective.
 struct OrbitCamera {
   Vec3 target_m = Vec3::Zero();

@@ -396,11 +396,23 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
     setVec3(p, "u_eye", pose.p_WC_m);
     return p;
   };
-  // The scope first, opaque, writing depth; then the colon blended over it without
-  // writing depth, so every wall layer shows and nothing hides the scope.
+  // The colon first, blended without writing depth, so every wall layer shows; then the
+  // scope, opaque, over it: no wall layer in front of the scope can wash it out (the
+  // scope's shape is what a scope-position display is for), and the scope still hides
+  // itself where it crosses over (its own depth).
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  {
+    const GLuint p = use(2);
+    setVec3(p, "u_color", style.colon_rgb);
+    glUniform2f(glGetUniformLocation(p, "u_alpha"), style.colon_alpha_face, style.colon_alpha_silhouette);
+    gl_->colon_global.draw();
+  }
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
   if (gl_->scope.index_count > 0) {
-    glDisable(GL_BLEND);
-    glDepthMask(GL_TRUE);
+    glClear(GL_DEPTH_BUFFER_BIT);  // the colon wrote none: only the scope's own depth counts
     const GLuint p = use(3);
     setVec3(p, "u_color", style.scope_rgb);
     setVec3(p, "u_tip_color", style.tip_rgb);
@@ -408,13 +420,6 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
     glUniform1f(glGetUniformLocation(p, "u_tip_len"), static_cast<float>(style.tip_length_m));
     gl_->scope.draw();
   }
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  glDepthMask(GL_FALSE);
-  const GLuint p = use(2);
-  setVec3(p, "u_color", style.colon_rgb);
-  glUniform2f(glGetUniformLocation(p, "u_alpha"), style.colon_alpha_face, style.colon_alpha_silhouette);
-  gl_->colon_global.draw();
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);

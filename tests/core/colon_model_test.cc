@@ -80,6 +80,20 @@ TEST(ColonModel, AdultAnatomyHasTheExpectedShape) {
   EXPECT_NEAR(m.gravity_m_per_s2.x(), 9.81, 1e-12);
 }
 
+TEST(ColonModel, AdultBendsAreWiderThanTheLumen) {
+  // A bend tighter than the lumen radius would fold the wall through itself.
+  const ColonModel m = adult();
+  for (int j = 0; j + 1 < m.n; ++j) {
+    for (double p : {0.0, 0.25, 0.5, 0.75}) {
+      const Vec3 d1 = splineTangent(m.q_rest, j, p), d2 = splineSecondDerivative(m.q_rest, j, p);
+      const double curvature = d1.cross(d2).norm() / std::pow(d1.norm(), 3);
+      EXPECT_LT(curvature * m.radiusAt(j, p), 1.0)
+          << m.region_names[m.segment_region[j]] << " segment " << j << " p " << p << ": bend radius "
+          << 1 / curvature << " m, lumen radius " << m.radiusAt(j, p) << " m";
+    }
+  }
+}
+
 TEST(ColonModel, SpacingIsALoadTimeOption) {
   Parameters p = loadParameters(test::asset("params/default.json"));
   const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
@@ -92,7 +106,7 @@ TEST(ColonModel, SpacingIsALoadTimeOption) {
 }
 
 TEST(ColonModel, GravityFollowsThePatientPosition) {
-  EXPECT_EQ(gravityForPosition("supine", 9.81), Vec3(0, -9.81, 0));
+  EXPECT_EQ(gravityForPosition("supine", 9.81), Vec3(0, 9.81, 0));  // LPS: y posterior
   EXPECT_EQ(gravityForPosition("right_lateral", 9.81), Vec3(-9.81, 0, 0));
   EXPECT_THROW(gravityForPosition("standing", 9.81), std::invalid_argument);
 }

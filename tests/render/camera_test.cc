@@ -68,10 +68,11 @@ TEST(OrbitCamera, OrbitPanZoom) {
   OrbitCamera c;
   c.target_m = Vec3(0.1, 0.2, 0.3);
   c.distance_m = 0.5;
-  // Yaw 0, pitch 0: from anterior (+y), z up.
+  // Yaw 0, pitch 0: from anterior (-y in LPS), z up, the patient's left on screen right.
   CameraPose p = c.pose();
-  EXPECT_LT((p.p_WC_m - Vec3(0.1, 0.7, 0.3)).norm(), 1e-12);
-  EXPECT_LT((p.R_WC.col(2) - Vec3(0, -1, 0)).norm(), 1e-12);
+  EXPECT_LT((p.p_WC_m - Vec3(0.1, -0.3, 0.3)).norm(), 1e-12);
+  EXPECT_LT((p.R_WC.col(2) - Vec3(0, 1, 0)).norm(), 1e-12);
+  EXPECT_LT((p.R_WC.col(0) - Vec3(1, 0, 0)).norm(), 1e-12);
   // Orbiting keeps the distance to the target and looks at it.
   c.orbit(0.7, 0.4);
   p = c.pose();

@@ -77,7 +77,7 @@ TEST(Assets, NegativeLengthIsRefused) {
   test::TempDir dir;
   const std::string f = dir.write("p.json", paramsWith("\"value\": 0.015", "\"value\": -0.015"));
   expectInputError([&] { loadParameters(f); }, {f, "colon.control_point_spacing.value", "out of range"});
-  const std::string a = dir.write("a.json", anatomyWith("\"radius_m\": [0.02, 0.024]", "\"radius_m\": [-0.02, 0.024]"));
+  const std::string a = dir.write("a.json", anatomyWith("\"radius_m\": [0.02, 0.022]", "\"radius_m\": [-0.02, 0.022]"));
   expectInputError([&] { loadAnatomy(a); }, {a, "regions[0].radius_m[0]", "out of range"});
 }
 
@@ -116,7 +116,7 @@ TEST(Assets, UnknownPatientPositionIsRefused) {
 
 TEST(Assets, AnatomyInCentimetresIsRefused) {
   test::TempDir dir;
-  const std::string f = dir.write("a.json", anatomyWith("[0, -0.025, 0.04]", "[0, -2.5, 4.0]"));
+  const std::string f = dir.write("a.json", anatomyWith("[0, 0.025, 0.04]", "[0, 2.5, 4.0]"));
   expectInputError([&] { loadAnatomy(f); }, {f, "regions[0].points_m[1]", "wrong unit"});
 }
 
