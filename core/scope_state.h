@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "core/banded.h"
+#include "core/block_tridiagonal.h"
 #include "core/handle_input.h"
 #include "core/scope_model.h"
 
@@ -40,7 +40,7 @@ struct ScopeState {
   bool solver_ok = true;
 
   // Scratch, sized by makeScopeState() so that the step allocates nothing.
-  BandedSpd system;        ///< 6 unknowns per segment, half-bandwidth 11
+  BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;
 };
