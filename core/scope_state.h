@@ -57,7 +57,7 @@ void kinematicPose(const ScopeModel& model, int k, double insertion_m, double ro
 /// knobs within their stops); NaN becomes 0.
 HandleInput clampHandleInput(const ScopeModel& model, const HandleInput& in);
 
-/// Tip position [m] and frame (camera frame: d1 right, d2 up, d3 viewing direction).
+/// Tip position [m] and frame (the tip segment's material frame; the camera looks along d3).
 Vec3 tipPosition(const ScopeModel& model, const ScopeState& state);
 Mat3 tipFrame(const ScopeState& state);
 

@@ -55,9 +55,10 @@ Mat3 tipFrame(const ScopeState& s) { return s.R_WS[0]; }
 
 Vec3 restJointRotation(const ScopeModel& m, int joint, const HandleInput& in) {
   if (joint >= m.bending_joints) return Vec3::Zero();
-  // Up bends d3 towards d2: a rotation about d1 by -angle; right bends d3 towards d1: about d2.
+  // Up bends d3 towards d2: a rotation about d1 by -angle. Right bends d3 towards the
+  // image's right, -d1: a rotation about d2 by -angle.
   const double n = m.bending_joints;
-  return Vec3(-in.knob_updown_rad / n, in.knob_leftright_rad / n, 0.0);
+  return Vec3(-in.knob_updown_rad / n, -in.knob_leftright_rad / n, 0.0);
 }
 
 namespace {

@@ -19,3 +19,17 @@ using FrameWriter = std::function<void(const Simulation&, long steps_done)>;
 FrameWriter makeFrameWriter(const std::string& dir, const std::string& view, int width_px, int height_px);
 
 }  // namespace colosim::app
+
+namespace colosim {
+class Renderer;
+struct OrbitCamera;
+class WorldSimulation;
+}  // namespace colosim
+
+namespace colosim::app {
+/// Draws `view` ("onboard", "global" or "both" side by side, each width x height pixels)
+/// of a world simulation into the current GL context.
+void drawViews(Renderer& renderer, const WorldSimulation& sim, const std::string& view, int width_px,
+               int height_px, const OrbitCamera& global_camera);
+
+}  // namespace colosim::app
