@@ -75,7 +75,9 @@ void printScores(const nlohmann::json& scores) {
 
 int runScripted(const RunOptions& o) {
   // Every input is read and checked before any output is opened.
-  const Scenario scenario = findScenario(o.scenario);
+  Scenario scenario = findScenario(o.scenario);
+  // An identified parameter file (colosim identify --law-out on a recorded insertion).
+  if (!o.params.empty()) scenario.params_path = o.params;
   int width = 0, height = 0;
   char extra = 0;
   if (std::sscanf(o.size.c_str(), "%dx%d%c", &width, &height, &extra) != 2 || width < 16 || height < 16 ||
@@ -155,7 +157,8 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("--tension-law", o->tension_law,
                   "tension law file for the colon's tension elements (written by colosim identify --law-out)");
   cmd->add_option("--dt", o->dt_s, "time step [s] (settle only)")->check(CLI::Range(1e-5, 1e-2))->capture_default_str();
-  cmd->add_option("--params", o->params, "parameter file (settle only; scenarios name their own)");
+  cmd->add_option("--params", o->params, "parameter file (for a scenario: replaces the one it names, e.g. written by colosim identify "
+                  "--law-out on a recorded insertion)");
   cmd->add_option("--anatomy", o->anatomy, "anatomy file (settle only; scenarios name their own)");
   cmd->callback([&action, o] {
     action = [o]() -> int { return o->scenario == "settle" ? runSettle(*o) : runScripted(*o); };
