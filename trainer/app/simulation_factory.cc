@@ -13,19 +13,21 @@ namespace colosim::app {
 
 SimulationFactory simulationFactory() { return makeWorldSimulation; }
 
+CameraPose tipCameraPose(const Vec3& p_WTip_m, const Mat3& R_WTip) {
+  CameraPose pose;
+  pose.p_WC_m = p_WTip_m;
+  pose.R_WC.col(0) = -R_WTip.col(0);
+  pose.R_WC.col(1) = -R_WTip.col(1);
+  pose.R_WC.col(2) = R_WTip.col(2);
+  return pose;
+}
+
 namespace {
 
-// The onboard camera at the scope tip: forward along the tip axis, the image's right is
-// -d1 and its down -d2 (core/scope_model.h).
+// The onboard camera at the scope tip.
 CameraPose tipCamera(const WorldSimulation& sim) {
   const ScopeState& s = sim.state().scope;
-  CameraPose pose;
-  pose.p_WC_m = tipPosition(sim.model().scope, s);
-  const Mat3& R = s.R_WS[0];
-  pose.R_WC.col(0) = -R.col(0);
-  pose.R_WC.col(1) = -R.col(1);
-  pose.R_WC.col(2) = R.col(2);
-  return pose;
+  return tipCameraPose(tipPosition(sim.model().scope, s), s.R_WS[0]);
 }
 
 struct FrameState {
@@ -38,14 +40,19 @@ struct FrameState {
 
 void drawViews(Renderer& renderer, const WorldSimulation& sim, const std::string& view, int width_px,
                int height_px, const OrbitCamera& global_camera) {
-  const ColonModel& colon = sim.model().colon;
-  const Points& q = sim.state().colon.q;
   ScopeShape shape;
   shape.centreline_m = sim.scopeCentreline();
   shape.radius_m = sim.model().scope.radius_m;
+  drawViews(renderer, sim.model().colon, sim.state().colon.q, shape, tipCamera(sim), view, width_px, height_px,
+            global_camera);
+}
+
+void drawViews(Renderer& renderer, const ColonModel& colon, const Points& q, const ScopeShape& shape,
+               const CameraPose& tip_camera, const std::string& view, int width_px, int height_px,
+               const OrbitCamera& global_camera) {
   int x = 0;
   if (view == "onboard" || view == "both") {
-    renderer.drawOnboard(colon, q, shape, tipCamera(sim), Viewport{0, 0, width_px, height_px});
+    renderer.drawOnboard(colon, q, shape, tip_camera, Viewport{0, 0, width_px, height_px});
     x = width_px;
   }
   if (view == "global" || view == "both")

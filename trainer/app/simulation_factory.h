@@ -5,6 +5,7 @@
 #include <functional>
 #include <string>
 
+#include "core/spline.h"
 #include "trainer/simulation.h"
 
 namespace colosim::app {
@@ -23,6 +24,9 @@ FrameWriter makeFrameWriter(const std::string& dir, const std::string& view, int
 namespace colosim {
 class Renderer;
 struct OrbitCamera;
+struct CameraPose;
+struct ScopeShape;
+struct ColonModel;
 class WorldSimulation;
 }  // namespace colosim
 
@@ -31,5 +35,13 @@ namespace colosim::app {
 /// of a world simulation into the current GL context.
 void drawViews(Renderer& renderer, const WorldSimulation& sim, const std::string& view, int width_px,
                int height_px, const OrbitCamera& global_camera);
+/// The same from the parts of a state (a snapshot copied out of colosim train's physics
+/// thread): colon control points q (3 x n) [m], the scope, and the onboard camera.
+void drawViews(Renderer& renderer, const ColonModel& colon, const Points& q, const ScopeShape& scope,
+               const CameraPose& tip_camera, const std::string& view, int width_px, int height_px,
+               const OrbitCamera& global_camera);
+/// The onboard camera at the scope tip: at p_WTip_m, forward along the tip segment's axis
+/// (R_WTip's d3), the image's right -d1 and its down -d2 (core/scope_model.h).
+CameraPose tipCameraPose(const Vec3& p_WTip_m, const Mat3& R_WTip);
 
 }  // namespace colosim::app
