@@ -45,13 +45,15 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& where) 
   return j;
 }
 
-nlohmann::json readJsonFile(const std::string& path) {
+std::string readTextFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
   std::stringstream buf;
   buf << in.rdbuf();
-  return parseJsonText(buf.str(), path);
+  return buf.str();
 }
+
+nlohmann::json readJsonFile(const std::string& path) { return parseJsonText(readTextFile(path), path); }
 
 JsonObject::JsonObject(const nlohmann::json& j, std::string where, std::string path)
     : j_(j), where_(std::move(where)), path_(std::move(path)) {

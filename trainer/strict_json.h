@@ -16,6 +16,9 @@ namespace colosim {
 
 // InputError (bad input, exit code 2) is defined in core/input_error.h.
 
+/// The bytes of a file; InputError "PATH: cannot open file" when it cannot be read.
+std::string readTextFile(const std::string& path);
+
 /// Reads and parses a JSON file. Syntax errors (with line and column), duplicate keys,
 /// an unreadable file: InputError.
 nlohmann::json readJsonFile(const std::string& path);
