@@ -23,6 +23,10 @@ std::string readTextFile(const std::string& path);
 /// an unreadable file: InputError.
 nlohmann::json readJsonFile(const std::string& path);
 
+/// Objects and arrays nested deeper than this are an InputError (colosim's files nest a
+/// few levels; deeper input would overflow the stack of code that recurses over values).
+constexpr int kMaxJsonDepth = 64;
+
 /// Parses JSON text (for inline tests and for lines of JSON Lines files); `where` is
 /// put in front of error messages (for example "session.jsonl:12").
 nlohmann::json parseJsonText(const std::string& text, const std::string& where);
