@@ -19,14 +19,28 @@ std::string assetDir() {
 
 std::string assetPath(const std::string& relative) { return assetDir() + "/" + relative; }
 
+namespace {
+constexpr uint64_t kFnvOffset = 14695981039346656037ull;
+constexpr uint64_t kFnvPrime = 1099511628211ull;
+}  // namespace
+
 uint64_t hashFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return 0;
-  uint64_t h = 14695981039346656037ull;
+  uint64_t h = kFnvOffset;
   char c;
   while (in.get(c)) {
     h ^= static_cast<unsigned char>(c);
-    h *= 1099511628211ull;
+    h *= kFnvPrime;
+  }
+  return h;
+}
+
+uint64_t hashBytes(const std::string& bytes) {
+  uint64_t h = kFnvOffset;
+  for (const char c : bytes) {
+    h ^= static_cast<unsigned char>(c);
+    h *= kFnvPrime;
   }
   return h;
 }
@@ -43,13 +57,15 @@ void checkHeader(JsonObject& top, const std::string& format) {
 
 }  // namespace
 
-Parameters loadParameters(const std::string& path) {
-  const nlohmann::json j = readJsonFile(path);
+Parameters loadParameters(const std::string& path) { return parseParameters(readTextFile(path), path); }
+
+Parameters parseParameters(const std::string& text, const std::string& path) {
+  const nlohmann::json j = parseJsonText(text, path);
   JsonObject top(j, path);
   checkHeader(top, "colosim-params");
   Parameters p;
   p.file = path;
-  p.hash = hashFile(path);
+  p.hash = hashBytes(text);
 
   JsonObject colon = top.object("colon");
   ColonParams& c = p.colon;
@@ -118,8 +134,10 @@ Parameters loadParameters(const std::string& path) {
   return p;
 }
 
-Anatomy loadAnatomy(const std::string& path) {
-  const nlohmann::json j = readJsonFile(path);
+Anatomy loadAnatomy(const std::string& path) { return parseAnatomy(readTextFile(path), path); }
+
+Anatomy parseAnatomy(const std::string& text, const std::string& path) {
+  const nlohmann::json j = parseJsonText(text, path);
   JsonObject top(j, path);
   checkHeader(top, "colosim-anatomy");
   Anatomy a;
@@ -168,11 +186,15 @@ Anatomy loadAnatomy(const std::string& path) {
 namespace colosim {
 ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params,
                           std::shared_ptr<const TensionLaw> law) {
-  const Anatomy anatomy = loadAnatomy(anatomy_path);
+  return colonModelOf(loadAnatomy(anatomy_path), anatomy_path, params, std::move(law));
+}
+
+ColonModel colonModelOf(const Anatomy& anatomy, const std::string& anatomy_file, const Parameters& params,
+                        std::shared_ptr<const TensionLaw> law) {
   try {
     return buildColonModel(anatomy, params.colon, std::move(law));
   } catch (const std::invalid_argument& e) {
-    throw InputError(anatomy_path + ": " + e.what() + " (with parameters " + params.file + ")");
+    throw InputError(anatomy_file + ": " + e.what() + " (with parameters " + params.file + ")");
   }
 }
 }  // namespace colosim

@@ -23,9 +23,14 @@ struct Parameters {
 
 /// Reads a parameter file; throws InputError naming the file and key.
 Parameters loadParameters(const std::string& path);
+/// The same from the file's text in memory (loadParameters reads the file and calls it);
+/// `file` names it in messages and in Parameters::file.
+Parameters parseParameters(const std::string& text, const std::string& file);
 
 /// Reads an anatomy file (assets/anatomy/*.json); throws InputError naming the file and key.
 Anatomy loadAnatomy(const std::string& path);
+/// The same from the file's text in memory; `file` names it in messages.
+Anatomy parseAnatomy(const std::string& text, const std::string& file);
 
 /// The folder of the shipped assets: $COLOSIM_ASSETS when set, else the source tree's
 /// assets/ folder this build was configured from.
@@ -35,6 +40,8 @@ std::string assetPath(const std::string& relative);
 
 /// FNV-1a of a file's bytes (0 when it cannot be read).
 uint64_t hashFile(const std::string& path);
+/// FNV-1a of bytes in memory (hashFile of a file holding them).
+uint64_t hashBytes(const std::string& bytes);
 
 }  // namespace colosim
 
@@ -44,6 +51,10 @@ namespace colosim {
 /// anatomy file. `law` replaces the parameters' Voigt law for the tension elements when given.
 ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params,
                           std::shared_ptr<const TensionLaw> law = nullptr);
+/// The colon model of an anatomy already read from `anatomy_file` (loadColonModel without
+/// the reading): the same InputError naming the anatomy file on a mismatch.
+ColonModel colonModelOf(const Anatomy& anatomy, const std::string& anatomy_file, const Parameters& params,
+                        std::shared_ptr<const TensionLaw> law = nullptr);
 /// The world (colon, scope at its anus, contacts) of an anatomy file with a parameter set.
 WorldModel loadWorldModel(const std::string& anatomy_path, const Parameters& params,
                           std::shared_ptr<const TensionLaw> law = nullptr);

@@ -20,14 +20,6 @@ long Scenario::steps() const { return std::lround(duration_s / dt_s); }
 
 namespace {
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return buf.str();
-}
-
 // An asset path as written in a scenario: relative to assets/ (or absolute).
 std::string assetFile(JsonObject& top, const std::string& key) {
   const std::string rel = top.string(key);
@@ -38,7 +30,7 @@ std::string assetFile(JsonObject& top, const std::string& key) {
   return path;
 }
 
-Scenario parseScenario(const nlohmann::json& j, const std::string& path) {
+Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
   JsonObject top(j, path);
   const std::string format = top.string("format");
   if (format != "colosim-scenario") top.fail("format", "expected 'colosim-scenario', got '" + format + "'");
@@ -107,16 +99,20 @@ Scenario parseScenario(const nlohmann::json& j, const std::string& path) {
 
 }  // namespace
 
-Scenario loadScenario(const std::string& path) {
-  const std::string text = readText(path);
+Scenario parseScenario(const std::string& text, const std::string& path) {
   const nlohmann::json j = parseJsonText(text, path);  // syntax errors carry their line
   Scenario s;
   try {
-    s = parseScenario(j, path);
+    s = scenarioFromJson(j, path);
   } catch (const InputError& e) {
     throw InputError(addLineToMessage(e.what(), path, text));
   }
-  s.file_hash = hashFile(path);
+  s.file_hash = hashBytes(text);
+  return s;
+}
+
+Scenario loadScenario(const std::string& path) {
+  Scenario s = parseScenario(readTextFile(path), path);
   // A shipped scenario is named by its name, so that sessions replay on other machines.
   std::error_code ec;
   const fs::path shipped = fs::path(assetDir()) / "scenarios" / (s.name + ".json");

@@ -60,6 +60,9 @@ struct Scenario {
 
 /// Reads a scenario file strictly: InputError naming the file, the key path and its line.
 Scenario loadScenario(const std::string& path);
+/// The same from the file's text in memory (`file` names it in messages), except Scenario::id,
+/// which depends on where the file is: loadScenario reads the file, calls this and sets it.
+Scenario parseScenario(const std::string& text, const std::string& file);
 
 /// SCENARIO as users give it: an existing file, or the name of a file in
 /// assets/scenarios/ (with or without ".json"). InputError listing the shipped names

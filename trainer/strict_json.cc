@@ -20,8 +20,17 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& where) 
   // Duplicate keys are silently merged by nlohmann::json: catch them in the callback.
   std::vector<std::set<std::string>> open_objects;
   std::string duplicate;
-  auto callback = [&](int /*depth*/, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
+  // nlohmann::json parses without recursion, but copying a value and our own scanners
+  // (json_position.cc) recurse: deeply nested input ("[[[[...") overflowed the stack. Our
+  // files nest a few levels; anything deeper is refused, and not built (the callback
+  // discards it) so that nothing recurses over it.
+  bool too_deep = false;
+  auto callback = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json& parsed) {
     using E = nlohmann::json::parse_event_t;
+    if ((event == E::object_start || event == E::array_start) && depth >= kMaxJsonDepth) {
+      too_deep = true;
+      return false;
+    }
     if (event == E::object_start) {
       open_objects.emplace_back();
     } else if (event == E::object_end) {
@@ -41,17 +50,20 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& where) 
     const auto pos = msg.find("] ");
     throw InputError(where + ": invalid JSON: " + (pos == std::string::npos ? msg : msg.substr(pos + 2)));
   }
+  if (too_deep) throw InputError(where + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   if (!duplicate.empty()) throw InputError(where + ": duplicate key '" + duplicate + "'");
   return j;
 }
 
-nlohmann::json readJsonFile(const std::string& path) {
+std::string readTextFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open file");
   std::stringstream buf;
   buf << in.rdbuf();
-  return parseJsonText(buf.str(), path);
+  return buf.str();
 }
+
+nlohmann::json readJsonFile(const std::string& path) { return parseJsonText(readTextFile(path), path); }
 
 JsonObject::JsonObject(const nlohmann::json& j, std::string where, std::string path)
     : j_(j), where_(std::move(where)), path_(std::move(path)) {

@@ -16,9 +16,16 @@ namespace colosim {
 
 // InputError (bad input, exit code 2) is defined in core/input_error.h.
 
+/// The bytes of a file; InputError "PATH: cannot open file" when it cannot be read.
+std::string readTextFile(const std::string& path);
+
 /// Reads and parses a JSON file. Syntax errors (with line and column), duplicate keys,
 /// an unreadable file: InputError.
 nlohmann::json readJsonFile(const std::string& path);
+
+/// Objects and arrays nested deeper than this are an InputError (colosim's files nest a
+/// few levels; deeper input would overflow the stack of code that recurses over values).
+constexpr int kMaxJsonDepth = 64;
 
 /// Parses JSON text (for inline tests and for lines of JSON Lines files); `where` is
 /// put in front of error messages (for example "session.jsonl:12").

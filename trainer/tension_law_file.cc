@@ -31,7 +31,11 @@ void writeTensionLawFile(const std::string& path, const ExtendedLawParams& p, co
 }
 
 ExtendedLawParams readTensionLawFile(const std::string& path) {
-  const nlohmann::json j = readJsonFile(path);
+  return parseTensionLawFile(readTextFile(path), path);
+}
+
+ExtendedLawParams parseTensionLawFile(const std::string& text, const std::string& path) {
+  const nlohmann::json j = parseJsonText(text, path);
   if (!j.is_object()) throw InputError(path + ": expected a JSON object");
   JsonObject top(j, path);
   top.choice("format", {kFormat});

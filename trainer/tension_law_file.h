@@ -25,6 +25,8 @@ void writeTensionLawFile(const std::string& path, const ExtendedLawParams& law, 
 /// Reads a law file strictly: unknown or missing keys, wrong units, unknown effects,
 /// out-of-range values are InputError naming the file and key.
 ExtendedLawParams readTensionLawFile(const std::string& path);
+/// The same from the file's text in memory; `file` names it in messages.
+ExtendedLawParams parseTensionLawFile(const std::string& text, const std::string& file);
 
 /// The law of a file, ready for buildColonModel.
 std::shared_ptr<const TensionLaw> loadTensionLaw(const std::string& path);

@@ -73,6 +73,10 @@ const std::vector<double>& Measurement::column(const std::string& name) const {
 Measurement readMeasurement(const std::string& path, const MeasurementSpec& spec) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot read the file");
+  return parseMeasurement(in, path, spec);
+}
+
+Measurement parseMeasurement(std::istream& in, const std::string& path, const MeasurementSpec& spec) {
   Measurement m;
   m.file = path;
   std::string line;
@@ -153,12 +157,18 @@ Measurement readMeasurement(const std::string& path, const MeasurementSpec& spec
   return m;
 }
 
-TensionTest readTensionTest(const std::string& path) {
+namespace {
+
+MeasurementSpec tensionSpec() {
   MeasurementSpec spec;
   spec.required_keys = {"experiment", "sample_length_m"};
   spec.columns = {"time_s", "elongation_m", "force_N"};
   spec.min_rows = kMinTensionRows;
-  const Measurement m = readMeasurement(path, spec);
+  return spec;
+}
+
+TensionTest tensionTestOf(const Measurement& m) {
+  const std::string& path = m.file;
   if (m.meta("experiment") != "tension")
     throw InputError(path + ": header 'experiment' must be 'tension', got '" + m.meta("experiment") + "'");
   TensionTest t;
@@ -170,6 +180,14 @@ TensionTest readTensionTest(const std::string& path) {
   t.elongation_m = m.column("elongation_m");
   t.force_N = m.column("force_N");
   return t;
+}
+
+}  // namespace
+
+TensionTest readTensionTest(const std::string& path) { return tensionTestOf(readMeasurement(path, tensionSpec())); }
+
+TensionTest parseTensionTest(std::istream& in, const std::string& file) {
+  return tensionTestOf(parseMeasurement(in, file, tensionSpec()));
 }
 
 void writeTensionTest(const std::string& path, const TensionTest& t) {

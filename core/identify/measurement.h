@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstddef>
+#include <istream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +51,9 @@ struct MeasurementSpec {
 /// lines, the column line, and rows of finite numbers. A column named time_s must be
 /// strictly increasing. Throws InputError with "file:line: message".
 Measurement readMeasurement(const std::string& path, const MeasurementSpec& spec);
+/// The same from a stream (readMeasurement opens the file and calls it); `file` names it
+/// in messages and in Measurement::file.
+Measurement parseMeasurement(std::istream& in, const std::string& file, const MeasurementSpec& spec);
 
 /// A displacement-controlled tension test (`# experiment: tension`).
 struct TensionTest {
@@ -68,6 +72,8 @@ constexpr size_t kMinTensionRows = 36;
 /// Reads a tension test: header keys `experiment` (= tension) and `sample_length_m`
 /// (in (0, 10] m), columns exactly time_s,elongation_m,force_N. InputError otherwise.
 TensionTest readTensionTest(const std::string& path);
+/// The same from a stream; `file` names it in messages.
+TensionTest parseTensionTest(std::istream& in, const std::string& file);
 
 /// Writes a tension test in the measurement format, with `metadata` as header lines after
 /// `experiment` and `sample_length_m` (which it writes itself). Throws std::runtime_error
