@@ -148,6 +148,7 @@ struct PhysicsLoopStats {
   double step_ms_median = 0.0;      ///< of the step (simulation + recording + snapshot) [ms]
   double step_ms_max = 0.0;         ///< [ms]
   long max_lag_steps = 0;           ///< largest lag behind the clock seen at a step boundary [1]
+  double cpu_s = 0.0;               ///< CPU time of the loop's thread over the loop [s]
 };
 
 /// What a finished loop leaves.
