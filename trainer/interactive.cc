@@ -139,7 +139,14 @@ PhysicsLoop::~PhysicsLoop() { stop(); }
 void PhysicsLoop::start() {
   if (thread_.joinable()) throw std::logic_error("PhysicsLoop::start: already started");
   running_ = true;
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    try {
+      run();
+    } catch (...) {
+      error_ = std::current_exception();
+      running_ = false;
+    }
+  });
   // Named for top and perf: the draw side shows as colosim and llvmpipe-N.
   pthread_setname_np(thread_.native_handle(), "physics");
 }
@@ -249,6 +256,7 @@ PhysicsLoopResult PhysicsLoop::finish() {
   if (thread_.joinable()) stop();
   if (finished_) throw std::logic_error("PhysicsLoop::finish: called twice");
   finished_ = true;
+  if (error_) std::rethrow_exception(error_);
   PhysicsLoopResult r;
   r.steps = steps_;
   r.final_state_hash = sim_.stateHash();

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -188,7 +189,9 @@ class PhysicsLoop {
   bool latest(Snapshot& out);
 
   /// After the loop ended: the end line (final state hash and scores as summary) written
-  /// when recording, the scores and the measurements. Call once.
+  /// when recording, the scores and the measurements. Call once. When a step threw on
+  /// the loop's thread, rethrows that error instead and writes no end line (the session
+  /// then replays up to its last checkpoint, as after a crash).
   PhysicsLoopResult finish();
 
  private:
@@ -208,6 +211,7 @@ class PhysicsLoop {
   std::atomic<bool> stop_{false};
   std::atomic<bool> running_{false};
   std::thread thread_;
+  std::exception_ptr error_;  ///< what a step threw on the loop's thread
 
   std::mutex snapshot_mutex_;
   Snapshot back_;     ///< filled by the physics thread outside the lock

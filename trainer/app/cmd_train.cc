@@ -119,7 +119,10 @@ void drawOverlay(Renderer& r, const Snapshot& s, const ScoreOptions& scoring, do
     std::snprintf(line, sizeof line, "LOOP %.2f TURNS - PULL BACK AND TORQUE", std::abs(t.loop_turns));
     text({1.0f, 0.25f, 0.2f, 1.0f}, 3);
   }
-  std::snprintf(line, sizeof line, "PHYSICS %.0f/S  DRAW %.0f FPS", physics_hz, fps);
+  std::snprintf(line, sizeof line,
+                "PHYSICS %.0f/S  DRAW %.0f FPS    W/S PUSH/PULL  A/D ROTATE  I/K J/L TIP  SPACE CENTRE TIP  "
+                "SHIFT FAST  1 2 3 VIEW  ESC END",
+                physics_hz, fps);
   r.drawText(line, 8, height_px - 14, 1, grey, all);
 }
 
@@ -260,7 +263,10 @@ int runTrain(const TrainOptions& o) {
   } catch (...) {
     // Close the session properly (end line) before reporting the error.
     loop.stop();
-    loop.finish();
+    try {
+      loop.finish();
+    } catch (...) {  // the draw error is the one to report
+    }
     throw;
   }
   const double draw_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock.start).count();
