@@ -11,6 +11,8 @@
 #include <stdexcept>
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "trainer/handle_io.h"
@@ -137,7 +139,16 @@ PhysicsLoop::~PhysicsLoop() { stop(); }
 void PhysicsLoop::start() {
   if (thread_.joinable()) throw std::logic_error("PhysicsLoop::start: already started");
   running_ = true;
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    try {
+      run();
+    } catch (...) {
+      error_ = std::current_exception();
+      running_ = false;
+    }
+  });
+  // Named for top and perf: the draw side shows as colosim and llvmpipe-N.
+  pthread_setname_np(thread_.native_handle(), "physics");
 }
 
 void PhysicsLoop::stop() {
@@ -166,6 +177,12 @@ namespace {
 constexpr double kBin_s = 1e-5;
 constexpr int kBins = 10000;
 
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
 }  // namespace
 
 void PhysicsLoop::run() {
@@ -175,6 +192,7 @@ void PhysicsLoop::run() {
   double busy_s = 0.0, max_step_s = 0.0;
   const std::chrono::duration<double> dt(dt_s_);
   publish();  // the start state, for the first frame
+  const double cpu_start_s = threadCpuSeconds();
   const Clock::time_point t_start = Clock::now();
   Clock::time_point origin = t_start;  // step origin_step is due at origin
   long origin_step = 0;
@@ -218,6 +236,7 @@ void PhysicsLoop::run() {
   }
   const double wall_s = std::chrono::duration<double>(Clock::now() - t_start).count();
   stats_.steps = steps_;
+  stats_.cpu_s = threadCpuSeconds() - cpu_start_s;
   stats_.wall_s = wall_s;
   stats_.steps_per_s = wall_s > 0 ? steps_ / wall_s : 0.0;
   stats_.busy_fraction = wall_s > 0 ? busy_s / wall_s : 0.0;
@@ -237,6 +256,7 @@ PhysicsLoopResult PhysicsLoop::finish() {
   if (thread_.joinable()) stop();
   if (finished_) throw std::logic_error("PhysicsLoop::finish: called twice");
   finished_ = true;
+  if (error_) std::rethrow_exception(error_);
   PhysicsLoopResult r;
   r.steps = steps_;
   r.final_state_hash = sim_.stateHash();

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -148,6 +149,7 @@ struct PhysicsLoopStats {
   double step_ms_median = 0.0;      ///< of the step (simulation + recording + snapshot) [ms]
   double step_ms_max = 0.0;         ///< [ms]
   long max_lag_steps = 0;           ///< largest lag behind the clock seen at a step boundary [1]
+  double cpu_s = 0.0;               ///< CPU time of the loop's thread over the loop [s]
 };
 
 /// What a finished loop leaves.
@@ -187,7 +189,9 @@ class PhysicsLoop {
   bool latest(Snapshot& out);
 
   /// After the loop ended: the end line (final state hash and scores as summary) written
-  /// when recording, the scores and the measurements. Call once.
+  /// when recording, the scores and the measurements. Call once. When a step threw on
+  /// the loop's thread, rethrows that error instead and writes no end line (the session
+  /// then replays up to its last checkpoint, as after a crash).
   PhysicsLoopResult finish();
 
  private:
@@ -207,6 +211,7 @@ class PhysicsLoop {
   std::atomic<bool> stop_{false};
   std::atomic<bool> running_{false};
   std::thread thread_;
+  std::exception_ptr error_;  ///< what a step threw on the loop's thread
 
   std::mutex snapshot_mutex_;
   Snapshot back_;     ///< filled by the physics thread outside the lock

@@ -304,6 +304,42 @@ TEST(PhysicsLoop, FallingBehindDropsTimeAndSaysSoOnce) {
   EXPECT_GT(r.stats.step_ms_median, 3.0);
 }
 
+// A simulation whose step fails (as a solver might) at step 40.
+class FailingSimulation : public test::FakeSimulation {
+ public:
+  using FakeSimulation::FakeSimulation;
+  void step(const HandleInput& in) override {
+    if (++calls_ == 41) throw std::runtime_error("step failed");
+    FakeSimulation::step(in);
+  }
+
+ private:
+  int calls_ = 0;
+};
+
+TEST(PhysicsLoop, AStepErrorOnTheLoopThreadReachesTheCallerWithoutAnEndLine) {
+  test::TempDir dir;
+  const Scenario sc = loadScenario(dir.write("small.json", test::smallScenarioText()));
+  const std::string path = dir.file("s.jsonl");
+  FailingSimulation sim(sc);
+  SharedRates rates;
+  PhysicsLoopOptions opt;
+  opt.dt_s = sc.dt_s;
+  opt.real_time = false;
+  {
+    SessionWriter writer(path, sessionHeaderFor(sc, "test"));
+    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, HandleLimits(), rates, true), opt);
+    loop.start();
+    while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    EXPECT_THROW(loop.finish(), std::runtime_error);
+  }
+  // Like a crash: the session replays up to its last checkpoint (none here: 40 steps of
+  // 10 ms, the first checkpoint is after 100).
+  const Session s = readSession(path);
+  EXPECT_FALSE(s.complete);
+  EXPECT_TRUE(s.truncated);
+}
+
 TEST(PhysicsLoop, SnapshotsOnlyWhenNewer) {
   test::TempDir dir;
   const Scenario sc = loadScenario(dir.write("small.json", test::smallScenarioText()));

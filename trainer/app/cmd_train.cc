@@ -10,12 +10,15 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <thread>
 #include <vector>
 
 // GLFW must not include the system GL header: the renderer loads GL through glad.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <sys/resource.h>
 
+#include "render/image.h"
 #include "render/renderer.h"
 #include "render/window.h"
 #include "trainer/app/commands.h"
@@ -31,14 +34,19 @@ namespace colosim::app {
 namespace {
 
 constexpr const char* kKeyHelp =
-    "Keys: W / S (or Up / Down) push / pull the scope; A / D (or Left / Right) rotate it "
-    "anticlockwise / clockwise; I / K tip up / down and J / L tip left / right (the two knobs); "
-    "Space brings both knobs back to neutral; hold Shift for 3x speed; 1 onboard, 2 global, "
-    "3 split view (V cycles); mouse on the global view: left drag orbits, right drag pans, wheel "
-    "zooms; Escape or the close button ends the session. "
-    "Gamepad (when GLFW finds one): left stick up / down push / pull, left stick left / right "
-    "rotation, right stick the tip knobs, right bumper 3x speed, A centres the knobs, Back cycles "
-    "the view. Full speed: 3 cm/s insertion, 1.5 rad/s rotation and knobs.";
+    "Keys (held down; full speed 3 cm/s insertion, 1.5 rad/s rotation and knobs):\n"
+    "  W / S  or  Up / Down      push / pull the scope\n"
+    "  A / D  or  Left / Right   rotate anticlockwise / clockwise (seen by the operator)\n"
+    "  I / K                     tip up / down (up/down knob)\n"
+    "  J / L                     tip left / right (left/right knob)\n"
+    "  Space                     both knobs back to neutral\n"
+    "  Shift                     3x speed\n"
+    "  1 / 2 / 3  (V cycles)     onboard / global / split view\n"
+    "  mouse on the global view  left drag orbits, right drag pans, wheel zooms\n"
+    "  Escape or close button    end the session (the score is printed)\n"
+    "Gamepad (when GLFW finds one): left stick up/down push/pull, left stick left/right\n"
+    "rotation, right stick the tip knobs, right bumper 3x speed, A centres the knobs, Back\n"
+    "cycles the view. The session is recorded without being asked (--record-dir, --record).";
 
 struct TrainOptions {
   std::string scenario = "free_insertion";
@@ -49,7 +57,8 @@ struct TrainOptions {
   double quit_after_s = -1;              // wall seconds; negative: until the window closes
   bool autopilot = false;
   bool json = false;
-  int render_threads = 0;                // LP_NUM_THREADS for llvmpipe; 0: leave as is
+  int render_threads = -1;               // LP_NUM_THREADS for llvmpipe; 0: Mesa's default; -1: auto
+  std::string screenshot;                // PNG of the last frame
 };
 
 // Keyboard and gamepad, polled once per frame.
@@ -110,7 +119,10 @@ void drawOverlay(Renderer& r, const Snapshot& s, const ScoreOptions& scoring, do
     std::snprintf(line, sizeof line, "LOOP %.2f TURNS - PULL BACK AND TORQUE", std::abs(t.loop_turns));
     text({1.0f, 0.25f, 0.2f, 1.0f}, 3);
   }
-  std::snprintf(line, sizeof line, "PHYSICS %.0f/S  DRAW %.0f FPS", physics_hz, fps);
+  std::snprintf(line, sizeof line,
+                "PHYSICS %.0f/S  DRAW %.0f FPS    W/S PUSH/PULL  A/D ROTATE  I/K J/L TIP  SPACE CENTRE TIP  "
+                "SHIFT FAST  1 2 3 VIEW  ESC END",
+                physics_hz, fps);
   r.drawText(line, 8, height_px - 14, 1, grey, all);
 }
 
@@ -118,6 +130,13 @@ struct FrameClock {
   std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
   std::vector<double> frame_ms;
 };
+
+// CPU time of the whole process (every thread) [s].
+double processCpuSeconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + 1e-6 * u.ru_utime.tv_usec + u.ru_stime.tv_sec + 1e-6 * u.ru_stime.tv_usec;
+}
 
 void printScores(const nlohmann::json& scores) {
   std::printf("  scores:\n");
@@ -135,9 +154,17 @@ int runTrain(const TrainOptions& o) {
   if (std::sscanf(o.size.c_str(), "%dx%d%c", &width, &height, &extra) != 2 || width < 64 || height < 64 ||
       width > 8192 || height > 8192)
     throw InputError("--size: expected WxH in pixels (64..8192), got '" + o.size + "'");
+  if (!o.screenshot.empty() && std::filesystem::exists(o.screenshot))
+    throw InputError(o.screenshot + ": exists (a screenshot never overwrites a file)");
   if (!o.record.empty() && std::filesystem::exists(o.record))
     throw InputError(o.record + ": exists (a session never overwrites a file); choose a new name or --record-dir");
-  if (o.render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(o.render_threads).c_str(), 1);
+  // llvmpipe rasterises on as many threads as cores by default; on 2 cores its threads
+  // then take turns with the physics thread and physics falls behind. Leaving physics a
+  // core of its own kept it at 1000 steps/s at the same frame rate (README, measured).
+  int render_threads = o.render_threads;
+  if (render_threads < 0 && !std::getenv("LP_NUM_THREADS"))
+    render_threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1);
+  if (render_threads > 0) setenv("LP_NUM_THREADS", std::to_string(render_threads).c_str(), 1);
 
   Window window(width, height, "colosim train " + scenario.name);
   Renderer renderer;
@@ -171,6 +198,20 @@ int runTrain(const TrainOptions& o) {
   auto last_rate_time = clock.start;
   long last_rate_frames = 0, last_rate_steps = 0;
 
+  double load_1min = 0;
+  getloadavg(&load_1min, 1);
+  const double cpu_start_s = processCpuSeconds();
+  auto drawFrame = [&] {
+    const int fb_w = window.framebufferWidth(), fb_h = window.framebufferHeight();
+    if (!snap.has_world || fb_w < 2 || fb_h < 1) return;  // minimised
+    ScopeShape shape;
+    shape.centreline_m = snap.scope_centreline_m;
+    shape.radius_m = snap.scope_radius_m;
+    const int view_w = view == "both" ? fb_w / 2 : fb_w;
+    drawViews(renderer, colon, snap.colon_q, shape, tipCameraPose(snap.p_WTip_m, snap.R_WTip), view, view_w, fb_h,
+              window.globalCamera());
+    drawOverlay(renderer, snap, scenario.scoring, shown_fps, shown_physics_hz, fb_w, fb_h);
+  };
   loop.start();
   try {
     auto frame_start = std::chrono::steady_clock::now();
@@ -203,16 +244,7 @@ int runTrain(const TrainOptions& o) {
       window.setGlobalViewLeft(view == "both" ? 0.5 : view == "global" ? 0.0 : 1.0);
 
       loop.latest(snap);
-      const int fb_w = window.framebufferWidth(), fb_h = window.framebufferHeight();
-      if (snap.has_world && fb_w >= 2 && fb_h >= 1) {
-        ScopeShape shape;
-        shape.centreline_m = snap.scope_centreline_m;
-        shape.radius_m = snap.scope_radius_m;
-        const int view_w = view == "both" ? fb_w / 2 : fb_w;
-        drawViews(renderer, colon, snap.colon_q, shape, tipCameraPose(snap.p_WTip_m, snap.R_WTip), view, view_w,
-                  fb_h, window.globalCamera());
-        drawOverlay(renderer, snap, scenario.scoring, shown_fps, shown_physics_hz, fb_w, fb_h);
-      }
+      drawFrame();
       window.swapBuffers();
       ++frames;
       const auto now = std::chrono::steady_clock::now();
@@ -231,13 +263,24 @@ int runTrain(const TrainOptions& o) {
   } catch (...) {
     // Close the session properly (end line) before reporting the error.
     loop.stop();
-    loop.finish();
+    try {
+      loop.finish();
+    } catch (...) {  // the draw error is the one to report
+    }
     throw;
   }
   const double draw_wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock.start).count();
   loop.stop();
+  const double cpu_s = processCpuSeconds() - cpu_start_s;
   const PhysicsLoopResult r = loop.finish();
+  if (!o.screenshot.empty()) {
+    loop.latest(snap);
+    drawFrame();
+    writePng(o.screenshot, window.read());
+  }
   const double fps = draw_wall_s > 0 ? frames / draw_wall_s : 0.0;
+  // Everything but the physics thread draws: the main thread and llvmpipe's rasterisers.
+  const double draw_cpu_ms_per_frame = frames > 0 ? 1e3 * (cpu_s - r.stats.cpu_s) / frames : 0.0;
   std::vector<double> sorted = clock.frame_ms;
   std::sort(sorted.begin(), sorted.end());
   const double frame_ms_median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
@@ -252,11 +295,14 @@ int runTrain(const TrainOptions& o) {
                      {"physics_steps_per_s", r.stats.steps_per_s},
                      {"dropped_steps", r.stats.dropped_steps},
                      {"physics_busy_pct", 100.0 * r.stats.busy_fraction},
+                     {"physics_cpu_pct", r.stats.wall_s > 0 ? 100.0 * r.stats.cpu_s / r.stats.wall_s : 0.0},
                      {"step_ms_median", r.stats.step_ms_median},
                      {"step_ms_max", r.stats.step_ms_max},
                      {"frames", frames},
                      {"frames_per_s", fps},
                      {"frame_ms_median", frame_ms_median},
+                     {"draw_cpu_ms_per_frame", draw_cpu_ms_per_frame},
+                     {"load_average_1min", load_1min},
                      {"window_px", std::to_string(window.framebufferWidth()) + "x" +
                                        std::to_string(window.framebufferHeight())},
                      {"view", view},
@@ -268,13 +314,15 @@ int runTrain(const TrainOptions& o) {
   }
   std::printf("colosim train %s: %ld steps (%.3f s simulated) in %.2f s of wall time\n", scenario.name.c_str(),
               r.steps, r.steps * scenario.dt_s, r.stats.wall_s);
-  std::printf("  physics              %.1f steps/s (target %.0f), %ld steps dropped, busy %.0f %%, step median "
-              "%.2f ms, max %.2f ms\n",
-              r.stats.steps_per_s, 1.0 / scenario.dt_s, r.stats.dropped_steps, 100.0 * r.stats.busy_fraction,
-              r.stats.step_ms_median, r.stats.step_ms_max);
-  std::printf("  drawing              %.1f frames/s (%ld frames, median %.1f ms, %dx%d, %s view%s%s)\n", fps, frames,
-              frame_ms_median, window.framebufferWidth(), window.framebufferHeight(), view.c_str(),
-              lp ? ", LP_NUM_THREADS=" : "", lp ? lp : "");
+  std::printf("  physics              %.1f steps/s (target %.0f), %ld steps dropped, CPU %.0f %% of a core, "
+              "step median %.2f ms, max %.2f ms\n",
+              r.stats.steps_per_s, 1.0 / scenario.dt_s, r.stats.dropped_steps,
+              r.stats.wall_s > 0 ? 100.0 * r.stats.cpu_s / r.stats.wall_s : 0.0, r.stats.step_ms_median,
+              r.stats.step_ms_max);
+  std::printf("  drawing              %.1f frames/s (%ld frames, median %.1f ms, CPU %.1f ms a frame, %dx%d, %s view%s%s)\n",
+              fps, frames, frame_ms_median, draw_cpu_ms_per_frame, window.framebufferWidth(),
+              window.framebufferHeight(), view.c_str(), lp ? ", LP_NUM_THREADS=" : "", lp ? lp : "");
+  std::printf("  load average         %.2f (1 min, at the start; the machine's other work competes)\n", load_1min);
   std::printf("  final state hash     %s\n", hashToHex(r.final_state_hash).c_str());
   std::printf("  session recorded in  %s\n", session_path.c_str());
   printScores(r.scores);
@@ -301,9 +349,10 @@ void addTrainCommand(CLI::App& app, Action& action) {
       ->check(CLI::Range(0.0, 1e6));
   cmd->add_flag("--autopilot", o->autopilot, "the handle follows the scenario's script instead of the controls");
   cmd->add_option("--render-threads", o->render_threads,
-                  "rasteriser threads of Mesa's llvmpipe (sets LP_NUM_THREADS; 0: Mesa's default)")
-      ->check(CLI::Range(0, 64))
-      ->capture_default_str();
+                  "rasteriser threads of Mesa's llvmpipe (sets LP_NUM_THREADS; 0: Mesa's default, one per "
+                  "core); default: cores - 1, so that physics keeps a core, unless LP_NUM_THREADS is set")
+      ->check(CLI::Range(0, 64));
+  cmd->add_option("--screenshot", o->screenshot, "write the last frame into this new PNG file");
   cmd->add_flag("--json", o->json, "print one JSON object on stdout at the end (rates, session, scores)");
   cmd->callback([&action, o] { action = [o]() -> int { return runTrain(*o); }; });
 }
