@@ -61,7 +61,11 @@ TEST(FuzzRegressions, EverySeedReads) {
     int seeds = 0;
     for (const std::string& dir : seedDirs().at(r.name)) {
       for (const fs::path& f : filesIn(dir)) {
-        EXPECT_TRUE(r.read(test::readFile(f.string()))) << r.name << ": " << f;
+        const std::string text = test::readFile(f.string());
+        // The measurement fuzzer drives the tension-test reader; recorded insertions (the
+        // organ-level reader, not fuzzed yet) are refused by it and are no valid seed.
+        if (r.name == "measurement" && text.find("# experiment: insertion") != std::string::npos) continue;
+        EXPECT_TRUE(r.read(text)) << r.name << ": " << f;
         ++seeds;
       }
     }
