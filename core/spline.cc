@@ -183,8 +183,10 @@ double closestParameterOnCubic(const SegmentCubic& c, const Vec3& x, double p_lo
           if (gp < 0) lo = p; else hi = p;
           const double slope = dG(p);
           double next = (slope > 0) ? p - gp / slope : 0.5 * (lo + hi);
+          // Converged: test this before the bracket, since a converged Newton step may
+          // land on the bracket end just moved to p, which would restart bisection.
+          if (std::abs(next - p) < 1e-12) { p = std::clamp(next, lo, hi); break; }
           if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-          if (std::abs(next - p) < 1e-12) { p = next; break; }
           p = next;
         }
         const double d = dist2(p);
