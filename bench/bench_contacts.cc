@@ -7,27 +7,11 @@
 #include <vector>
 
 #include "bench/registry.h"
+#include "bench/timing.h"
 #include "collision/contact_query.h"
 #include "trainer/assets.h"
 
 namespace colosim {
-
-namespace {
-
-// Median microseconds per call over `blocks` blocks of `reps` calls.
-double medianMicros(int blocks, int reps, const std::function<void()>& f) {
-  std::vector<double> us;
-  for (int b = 0; b < blocks; ++b) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int r = 0; r < reps; ++r) f();
-    const auto t1 = std::chrono::steady_clock::now();
-    us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / reps);
-  }
-  std::nth_element(us.begin(), us.begin() + us.size() / 2, us.end());
-  return us[us.size() / 2];
-}
-
-}  // namespace
 
 BenchOutput benchContacts() {
   const Parameters params = loadParameters(assetPath("params/default.json"));
@@ -43,12 +27,12 @@ BenchOutput benchContacts() {
   }
   auto queryTime = [&](ContactQuery& q, int blocks, int reps) {
     WorldState s = start;
-    return medianMicros(blocks, reps, [&] {
+    return timeBlocks(blocks, reps, [&] {
       q.findWallContacts(m, s);
       q.findSelfContacts(m, s);
     });
   };
-  std::vector<std::pair<std::string, double>> managers;
+  std::vector<std::pair<std::string, BlockTiming>> managers;
   // SaP is left out: with the colon's inflated boxes overlapping their neighbours, its
   // update() (which maintains a list of overlapping pairs) did not finish one step in minutes.
   for (const std::string& name : {std::string("dynamic_aabb_tree"), std::string("interval_tree")}) {
@@ -56,18 +40,20 @@ BenchOutput benchContacts() {
     managers.emplace_back(name, queryTime(q, 21, 50));
   }
   ScanContactQuery scan(m);
-  const double scan_us = queryTime(scan, 7, 3);
-  const double fcl_us = managers.front().second;
+  const BlockTiming scan_t = queryTime(scan, 7, 3);
+  const BlockTiming fcl_t = managers.front().second;
+  const double scan_us = scan_t.wall_us, fcl_us = fcl_t.wall_us;
 
   WorldState s = start;
   FclContactQuery q(m);
   const HandleInput hold = s.scope.input;
-  const double step_us = medianMicros(21, 50, [&] { stepWorld(m, s, hold, q, 1e-3); });
+  const BlockTiming step_t = timeBlocks(21, 50, [&] { stepWorld(m, s, hold, q, 1e-3); });
+  const double step_us = step_t.wall_us;
   size_t contacts = s.wall.size();
 
   BenchOutput out;
   nlohmann::json mgr = nlohmann::json::object();
-  for (const auto& [name, us] : managers) mgr[name] = us;
+  for (const auto& [name, t] : managers) mgr[name] = t.wall_us;
   out.json = {{"benchmark", "contacts"},
               {"scope_segments_inside", s.scope.inside},
               {"interaction_points", s.scope.inside * static_cast<int>(m.scope.interaction_points_S.size())},
@@ -76,19 +62,22 @@ BenchOutput benchContacts() {
               {"scan_query_us", scan_us},
               {"ratio", scan_us / fcl_us},
               {"step_us", step_us},
+              {"cpu", {{"fcl_query_us", fcl_t.cpu_us}, {"scan_query_us", scan_t.cpu_us},
+                       {"ratio", scan_t.cpu_us / fcl_t.cpu_us}, {"step_us", step_t.cpu_us}}},
               {"fcl_managers_query_us", mgr}};
   char buf[256];
   std::string text = "contacts, adult colon, scope inserted to the caecum (medians):\n";
   std::snprintf(buf, sizeof buf, "  %d scope segments inside, %d interaction points, %zu wall contacts\n",
                 s.scope.inside, s.scope.inside * static_cast<int>(m.scope.interaction_points_S.size()), contacts);
   text += buf;
-  for (const auto& [name, us] : managers) {
-    std::snprintf(buf, sizeof buf, "  FCL query (%s): %9.1f us\n", name.c_str(), us);
+  text += "                                   wall time   thread CPU time\n";
+  for (const auto& [name, t] : managers) {
+    std::snprintf(buf, sizeof buf, "  FCL query (%-17s) %9.1f us %12.1f us\n", name.c_str(), t.wall_us, t.cpu_us);
     text += buf;
   }
-  std::snprintf(buf, sizeof buf, "  paper's scan query:      %9.1f us\n  ratio scan / FCL:         %9.1f x\n"
-                "  whole physics step:       %9.1f us (colon + scope + contacts + self-collision)\n",
-                scan_us, scan_us / fcl_us, step_us);
+  std::snprintf(buf, sizeof buf, "  paper's scan query            %9.1f us %12.1f us\n  ratio scan / FCL              %9.1f x  %12.1f x\n"
+                "  whole physics step            %9.1f us %12.1f us (colon + scope + contacts + self-collision)\n",
+                scan_us, scan_t.cpu_us, scan_us / fcl_us, scan_t.cpu_us / fcl_t.cpu_us, step_us, step_t.cpu_us);
   text += buf;
   out.text = text;
   return out;

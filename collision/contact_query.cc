@@ -132,10 +132,6 @@ bool collectPair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* dat
   return false;  // never stop early
 }
 
-inline double distanceToBox(const Vec3& x, const Vec3& lo, const Vec3& hi) {
-  return (lo - x).cwiseMax(x - hi).cwiseMax(0.0).norm();
-}
-
 }  // namespace
 
 struct FclContactQuery::Impl {
@@ -269,18 +265,28 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
       const Vec3 centre_S(0, 0, m.scope.interaction_points_S[first].z());
       const Vec3 centre = s.scope.p_W[k] + s.scope.R_WS[k] * centre_S;
       const Nearest axis = nearestRobust(m, centre, s.track[k * P + first].colon_segment, c0, c1);
+      double r_min = -kInf;  // the smallest lumen radius around the slice's location [m]
+      Vec3 axis_point = Vec3::Zero();
       if (axis.j >= 0) {
-        double r_min = kInf;
+        r_min = kInf;
         for (int i = std::max(0, axis.j - 1); i <= std::min(colon.n - 1, axis.j + 2); ++i)
           r_min = std::min(r_min, colon.radius_m(i));
         if (axis.d + m.scope.radius_m <= r_min) {
           for (int i = first; i < first + per_slice; ++i) s.track[k * P + i] = {axis.j, axis.p};
           continue;
         }
+        axis_point = I.cubics[axis.j].at(axis.p);
       }
       for (int i = first; i < first + per_slice; ++i) {
         const Vec3 x = interactionPoint(m.scope, s.scope, k, i);
         WallTrack& track = s.track[k * P + i];
+        // The same test per point: the spline point nearest the slice's centre is at most
+        // |x - axis_point| from x, so x is inside the lumen when that is within r_min (the
+        // points on the side of the scope away from the wall).
+        if ((x - axis_point).squaredNorm() <= r_min * r_min && r_min > 0) {
+          track = {axis.j, axis.p};
+          continue;
+        }
         const int start = track.colon_segment >= 0 ? track.colon_segment : axis.j;
         const Nearest best = nearestRobust(m, x, start, c0, c1);
         track = {best.j, best.p};
@@ -322,8 +328,11 @@ Nearest FclContactQuery::nearestRobust(const WorldModel& m, const Vec3& x, int s
   for (int c = c0; c < c1; ++c) {
     const int j = I.pairs[c].first;
     if (local.j >= 0 && std::abs(j - local.j) <= 1) continue;
-    // Two lower bounds of the distance to the segment: its box and its ball.
-    const double bound = std::max(distanceToBox(x, I.lo[j], I.hi[j]), (x - I.mid[j]).norm() - I.rho[j]);
+    // Two lower bounds of the distance to the segment: its box (squared, no root unless
+    // it passes) and its ball.
+    const double box2 = (I.lo[j] - x).cwiseMax(x - I.hi[j]).cwiseMax(0.0).squaredNorm();
+    if (!(box2 < local.d * local.d)) continue;
+    const double bound = std::max(std::sqrt(box2), (x - I.mid[j]).norm() - I.rho[j]);
     if (bound < local.d) I.order.emplace_back(bound, j);
   }
   std::sort(I.order.begin(), I.order.end());

@@ -63,6 +63,14 @@ void fillGeometry(ColonModel& m) {
     }
     m.s_rest_m(j + 1) = m.s_rest_m(j) + m.segment_length_m(j);
   }
+  // Rest turning angles and Voronoi lengths of the bending energy (used only when EI > 0).
+  m.bend_rest_angle_rad = Eigen::VectorXd::Zero(n);
+  m.bend_length_m = Eigen::VectorXd::Zero(n);
+  for (int i = 1; i + 1 < n; ++i) {
+    m.bend_rest_angle_rad(i) = turningAngle(m.q_rest.col(i) - m.q_rest.col(i - 1),
+                                            m.q_rest.col(i + 1) - m.q_rest.col(i));
+    m.bend_length_m(i) = 0.5 * (m.rest_length_m(i - 1) + m.rest_length_m(i));
+  }
 }
 
 }  // namespace
@@ -152,6 +160,10 @@ ColonModel buildColonModel(const Anatomy& anatomy, const ColonParams& params,
   }
 
   m.mass_per_length_kg_per_m = params.mass_per_length_kg_per_m;
+  if (!(params.bending_EI_Nm2 >= 0) || !(params.mesentery_stiffening_per_m2 >= 0))
+    throw std::invalid_argument("bending_EI_Nm2 and mesentery_stiffening_per_m2 must be >= 0");
+  m.bending_EI_Nm2 = params.bending_EI_Nm2;
+  m.mesentery_stiffening_per_m2 = params.mesentery_stiffening_per_m2;
   m.gravity_m_per_s2 = gravityForPosition(params.patient_position, params.gravity_m_per_s2);
   m.tension_law = law ? law : std::make_shared<VoigtLaw>(params.tension_EA_N, params.tension_EC_Ns);
   integrateMatrices(m);

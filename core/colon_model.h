@@ -3,6 +3,7 @@
 // step (colon_step.h) takes both.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -47,6 +48,9 @@ struct ColonParams {
   std::string patient_position = "left_lateral";  ///< left_lateral | supine | prone | right_lateral
   double control_point_spacing_m = 0.015; ///< target spacing of the resampled spline [m]
   int control_point_count = 0;            ///< when > 0, overrides the spacing: exactly this many points
+  /// Extensions the paper leaves out (issue 7); 0 switches each off (the paper's model).
+  double bending_EI_Nm2 = 0;              ///< bending rigidity EI of the colon wall [N m^2]
+  double mesentery_stiffening_per_m2 = 0; ///< beta of the stiffening lifters k(d) = k0 (1 + beta d^2) [1/m^2]
 };
 
 /// Gravity vector in the patient frame for a named position [m/s^2]; throws
@@ -70,6 +74,17 @@ struct ColonModel {
   Eigen::VectorXd segment_k_N_per_m2; ///< mesentery stiffness density per segment (n-1)
   Eigen::VectorXd segment_c_Ns_per_m2;///< mesentery viscosity density per segment (n-1)
 
+  // Colon bending (colon_bending, not in the paper; docs/organ-identification.md): at each
+  // interior control point i a discrete bending energy EI / (2 L_i) (theta_i - theta0_i)^2
+  // on the turning angle theta_i between elements i-1 and i; off when EI = 0.
+  double bending_EI_Nm2 = 0;             ///< bending rigidity EI [N m^2]
+  Eigen::VectorXd bend_rest_angle_rad;   ///< theta0_i, rest turning angle at each control point (n; 0 at the ends) [rad]
+  Eigen::VectorXd bend_length_m;         ///< L_i = (l0_{i-1} + l0_i) / 2 (n; 0 at the ends) [m]
+  // Mesentery stiffening (mesentery_stiffening, not in the paper): the lifter density at a
+  // spline point displaced by d = |M(s) - M0(s)| from rest is k(d) = k0 (1 + beta d^2);
+  // off (the paper's linear lifters, eqs. 4-5) when beta = 0.
+  double mesentery_stiffening_per_m2 = 0; ///< beta [1/m^2]
+
   ScalarBand mass;            ///< M (eq. 3), n x n [kg]
   ScalarBand mesentery_K;     ///< K (eq. 4), n x n [N/m]
   ScalarBand mesentery_C;     ///< C (eq. 5), n x n [N s/m]
@@ -88,6 +103,12 @@ struct ColonModel {
     return s_rest_m(segment) + p * segment_length_m(segment);
   }
 };
+
+/// Turning angle between consecutive element vectors a and b [rad] in [0, pi]:
+/// atan2(|a x b|, a . b), accurate near 0 and pi.
+inline double turningAngle(const Vec3& a, const Vec3& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
 
 /// Builds a model: resamples the anatomy centreline to control points at the spacing
 /// of the parameters (uniform in arclength), integrates M, K, C by Gauss quadrature.

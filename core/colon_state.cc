@@ -15,9 +15,7 @@ ColonState makeColonState(const ColonModel& model, int load_capacity) {
   s.time_s = 0.0;
   const int zs = model.tension_law->internalSize();
   s.tension_internal.assign(static_cast<size_t>(n - 1) * zs, 0.0);
-  // data() + offset, not &v[offset]: for a law without internal variables the vector is empty,
-  // and v[0] of an empty vector is undefined behaviour (UBSan: reference binding to null).
-  for (int e = 0; e + 1 < n; ++e) model.tension_law->initInternal(s.tension_internal.data() + e * zs);
+  for (int e = 0; e + 1 < n && zs > 0; ++e) model.tension_law->initInternal(s.tension_internal.data() + e * zs);
   s.loads.reserve(load_capacity);
   s.tension_force_N = Eigen::VectorXd::Zero(n - 1);
   s.system.resize(3 * n, 11);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/colon_extensions.h"
+
 namespace colosim {
 
 namespace {
@@ -132,6 +134,53 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
     addBlock(s.system, e + 1, e, -H);
   }
 
+  // Stiffening lifters (mesentery_stiffening, colon_extensions.h): the part beyond the
+  // linear K of eq. 4, by 4-point Gauss quadrature over each segment.
+  if (m.mesentery_stiffening_per_m2 > 0) {
+    const double beta = m.mesentery_stiffening_per_m2;
+    for (int j = 0; j + 1 < n; ++j) {
+      const double k0 = m.segment_k_N_per_m2(j);
+      if (!(k0 > 0)) continue;
+      for (int g = 0; g < Gauss4::kCount; ++g) {
+        const Blend b = blend(n, j, Gauss4::node[g], 0);
+        const double w = Gauss4::weight[g] * m.segment_length_m(j);  // [m]
+        const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
+        const Vec3 fd = w * lifterStiffeningForceDensity(u, k0, beta);  // [N]
+        const Mat3 T = w * lifterStiffeningTangent(u, k0, beta);        // [N/m]
+        const Vec3 Tv = T * apply(b, s.v);
+        const Mat3 H = dt * dt * T;
+        for (int a = 0; a < 4; ++a) {
+          const int i = b.index[a];
+          for (int c = 0; c < 3; ++c) {
+            f[3 * i + c] += b.w[a] * fd(c);
+            rhs[3 * i + c] -= dt * dt * b.w[a] * Tv(c);
+          }
+          for (int c2 = 0; c2 < 4; ++c2) {
+            const int l = b.index[c2];
+            if (i >= l) addBlock(s.system, i, l, (b.w[a] * b.w[c2]) * H);
+          }
+        }
+      }
+    }
+  }
+
+  // Bending of the colon wall (colon_bending, colon_extensions.h) at interior control points.
+  if (m.bending_EI_Nm2 > 0) {
+    for (int i = 1; i + 1 < n; ++i) {
+      const BendingResponse r = bendingAtPoint(s.q.col(i - 1), s.q.col(i), s.q.col(i + 1),
+                                               m.bend_rest_angle_rad(i), m.bending_EI_Nm2, m.bend_length_m(i));
+      for (int j = 0; j < 3; ++j) {
+        Vec3 Kv = Vec3::Zero();
+        for (int k = 0; k < 3; ++k) Kv += r.stiffness_N_per_m[j][k] * s.v.col(i - 1 + k);
+        for (int c = 0; c < 3; ++c) {
+          f[3 * (i - 1 + j) + c] += r.force_N[j](c);
+          rhs[3 * (i - 1 + j) + c] -= dt * dt * Kv(c);
+        }
+        for (int k = 0; k <= j; ++k) addBlock(s.system, i - 1 + j, i - 1 + k, dt * dt * r.stiffness_N_per_m[j][k]);
+      }
+    }
+  }
+
   // External loads at spline points, distributed by the blending functions.
   for (const SplineLoad& load : s.loads) {
     const Blend b = blend(n, load.segment, load.p, 0);
@@ -190,6 +239,20 @@ ColonEnergy colonEnergy(const ColonModel& m, const ColonState& s) {
     elementStrain(m, s, e, &strain, &rate);
     en.tension_J += m.rest_length_m(e) *
                     m.tension_law->storedEnergy(strain, zs ? &s.tension_internal[e * zs] : nullptr);
+  }
+  if (m.mesentery_stiffening_per_m2 > 0) {
+    for (int j = 0; j + 1 < m.n; ++j)
+      for (int g = 0; g < Gauss4::kCount; ++g) {
+        const Blend b = blend(m.n, j, Gauss4::node[g], 0);
+        const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
+        en.mesentery_J += Gauss4::weight[g] * m.segment_length_m(j) *
+                          lifterStiffeningEnergyDensity(u, m.segment_k_N_per_m2(j), m.mesentery_stiffening_per_m2);
+      }
+  }
+  if (m.bending_EI_Nm2 > 0) {
+    for (int i = 1; i + 1 < m.n; ++i)
+      en.bending_J += bendingAtPoint(s.q.col(i - 1), s.q.col(i), s.q.col(i + 1), m.bend_rest_angle_rad(i),
+                                     m.bending_EI_Nm2, m.bend_length_m(i)).energy_J;
   }
   for (int i = 0; i < m.n; ++i) en.gravity_J -= m.mass_rowsum_kg(i) * m.gravity_m_per_s2.dot(s.q.col(i));
   return en;

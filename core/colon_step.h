@@ -18,8 +18,9 @@
 
 namespace colosim {
 
-/// Advances `state` by dt_s [s]: gravity, mesentery lifters, tension elements and the
-/// loads in state.loads. Allocates nothing. Leaves state.loads untouched (callers
+/// Advances `state` by dt_s [s]: gravity, mesentery lifters, tension elements, the
+/// extensions of colon_extensions.h when the model switches them on, and the loads in
+/// state.loads. Allocates nothing. Leaves state.loads untouched (callers
 /// clear them). On a failed factorisation (never expected: the matrix is SPD by
 /// construction) it sets state.solver_ok = false and leaves q and v unchanged.
 void stepColon(const ColonModel& model, ColonState& state, double dt_s);
@@ -27,10 +28,11 @@ void stepColon(const ColonModel& model, ColonState& state, double dt_s);
 /// Energies of the colon [J].
 struct ColonEnergy {
   double kinetic_J = 0;     ///< v^T M v / 2
-  double mesentery_J = 0;   ///< (q - q0)^T K (q - q0) / 2
+  double mesentery_J = 0;   ///< (q - q0)^T K (q - q0) / 2, plus the stiffening part when on
   double tension_J = 0;     ///< sum over elements of l0 * stored energy density
   double gravity_J = 0;     ///< -sum_i m_i g . q_i (zero at the origin)
-  double total() const { return kinetic_J + mesentery_J + tension_J + gravity_J; }
+  double bending_J = 0;     ///< sum of the bending energies at interior control points (0 when off)
+  double total() const { return kinetic_J + mesentery_J + tension_J + gravity_J + bending_J; }
 };
 ColonEnergy colonEnergy(const ColonModel& model, const ColonState& state);
 

@@ -9,8 +9,9 @@
 // turned by the handle (kinematic). Only the inside part is simulated, and it grows or
 // shrinks as the scope is pushed or withdrawn.
 //
-// Material frame of a segment: the columns of R_WS are d1 (right), d2 (up) and d3 (the
-// axis, pointing distally, towards the tip).
+// Material frame of a segment: the columns of R_WS are d1, d2 (up) and d3 (the axis,
+// pointing distally, towards the tip), right-handed: d1 = d2 x d3, which is the LEFT of
+// the image seen from the tip (the onboard camera's right is -d1, its down -d2).
 #pragma once
 
 #include <vector>

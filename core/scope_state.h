@@ -3,7 +3,7 @@
 
 #include <vector>
 
-#include "core/banded.h"
+#include "core/block_tridiagonal.h"
 #include "core/handle_input.h"
 #include "core/scope_model.h"
 
@@ -40,7 +40,7 @@ struct ScopeState {
   bool solver_ok = true;
 
   // Scratch, sized by makeScopeState() so that the step allocates nothing.
-  BandedSpd system;        ///< 6 unknowns per segment, half-bandwidth 11
+  BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;
 };
@@ -57,7 +57,7 @@ void kinematicPose(const ScopeModel& model, int k, double insertion_m, double ro
 /// knobs within their stops); NaN becomes 0.
 HandleInput clampHandleInput(const ScopeModel& model, const HandleInput& in);
 
-/// Tip position [m] and frame (camera frame: d1 right, d2 up, d3 viewing direction).
+/// Tip position [m] and frame (the tip segment's material frame; the camera looks along d3).
 Vec3 tipPosition(const ScopeModel& model, const ScopeState& state);
 Mat3 tipFrame(const ScopeState& state);
 

@@ -22,7 +22,7 @@ ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
   for (int k = 0; k < K; ++k) kinematicPose(m, k, 0.0, 0.0, &s.p_W[k], &s.R_WS[k]);
   s.inside = 0;
   s.loads.reserve(load_capacity);
-  s.system.resize(6 * K, 11);
+  s.system.resize(K);
   s.rhs = Eigen::VectorXd::Zero(6 * K);
   s.force = Eigen::VectorXd::Zero(6 * K);
   return s;
@@ -55,26 +55,13 @@ Mat3 tipFrame(const ScopeState& s) { return s.R_WS[0]; }
 
 Vec3 restJointRotation(const ScopeModel& m, int joint, const HandleInput& in) {
   if (joint >= m.bending_joints) return Vec3::Zero();
-  // Up bends d3 towards d2: a rotation about d1 by -angle; right bends d3 towards d1: about d2.
+  // Up bends d3 towards d2: a rotation about d1 by -angle. Right bends d3 towards the
+  // image's right, -d1: a rotation about d2 by -angle.
   const double n = m.bending_joints;
-  return Vec3(-in.knob_updown_rad / n, in.knob_leftright_rad / n, 0.0);
+  return Vec3(-in.knob_updown_rad / n, -in.knob_leftright_rad / n, 0.0);
 }
 
 namespace {
-
-// Adds a 6x6 block at block position (I, J) of the symmetric system (see colon_step.cc).
-inline void addBlock6(BandedSpd& a, int I, int J, const Mat6& B) {
-  if (I == J) {
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c <= r; ++c) a.lower(6 * I + r, 6 * I + c) += B(r, c);
-  } else if (I > J) {
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) a.lower(6 * I + r, 6 * J + c) += B(r, c);
-  } else {
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) a.lower(6 * J + c, 6 * I + r) += B(r, c);
-  }
-}
 
 inline Vec6 stacked(const Vec3& a, const Vec3& b) {
   Vec6 x;
@@ -167,19 +154,14 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
   double* rhs = s.rhs.data();
   std::fill(f, f + n, 0.0);
   std::fill(rhs, rhs + n, 0.0);
-  // Only the first n rows are used: reset the band there.
-  {
-    BandedSpd& a = s.system;
-    for (int i = 0; i < n; ++i)
-      for (int j = std::max(0, i - 11); j <= i; ++j) a.lower(i, j) = 0.0;
-  }
+  s.system.setZero(inside);
   const double drag = m.params.drag_Ns_per_m2 * h;
   for (int k = 0; k < inside; ++k) {
     Mat6 Mk = Mat6::Zero();
     Mk.topLeftCorner<3, 3>() = (m.segment_mass_kg + dt * drag) * Mat3::Identity();
     Mk.bottomRightCorner<3, 3>() =
         s.R_WS[k] * m.segment_inertia_kgm2.asDiagonal() * s.R_WS[k].transpose();
-    addBlock6(s.system, k, k, Mk);
+    s.system.diag(k) += Mk;
     const Vec3 fk = m.segment_mass_kg * m.gravity_m_per_s2 - drag * s.v_W[k];
     for (int c = 0; c < 3; ++c) f[6 * k + c] += fk(c);
   }
@@ -191,7 +173,7 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
     const bool proximal_simulated = (k + 1 < inside);
     const Vec6 uk = stacked(s.v_W[k], s.w_W[k]);
     for (int c = 0; c < 6; ++c) f[6 * k + c] += t.f_distal(c);
-    addBlock6(s.system, k, k, sys_k * t.K_dd);
+    s.system.diag(k) += sys_k * t.K_dd;
     Vec6 Ku_k = t.K_dd * uk;
     if (proximal_simulated) {
       const Vec6 up = stacked(s.v_W[k + 1], s.w_W[k + 1]);
@@ -201,8 +183,8 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
         f[6 * (k + 1) + c] += t.f_proximal(c);
         rhs[6 * (k + 1) + c] -= dt * dt * Ku_p(c);
       }
-      addBlock6(s.system, k + 1, k + 1, sys_k * t.K_pp);
-      addBlock6(s.system, k, k + 1, sys_k * t.K_dp);
+      s.system.diag(k + 1) += sys_k * t.K_pp;
+      s.system.below(k) += sys_k * t.K_dp.transpose();  // block (k+1, k)
     }
     for (int c = 0; c < 6; ++c) rhs[6 * k + c] -= dt * dt * Ku_k(c);
   }
@@ -225,20 +207,18 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
     const Mat3 HR = H * Rx;
     Mat6 B;
     B << H, -HR, Rx * H, -Rx * HR;
-    addBlock6(s.system, k, k, B);
+    s.system.diag(k) += B;
   }
 
-  // Solve (M + dt C + dt^2 K) du = dt f - dt^2 K u on the simulated segments. The band
-  // rows beyond n are left as they are: the factorisation reads only the first n rows.
+  // Solve (M + dt C + dt^2 K) du = dt f - dt^2 K u on the simulated segments: a block
+  // tridiagonal system (6 x 6 blocks), by block Cholesky.
   for (int i = 0; i < n; ++i) rhs[i] += dt * f[i];
-  BandedSpd& a = s.system;
-  // The band storage is row-major, so the leading n x n block is a band matrix of its own.
-  if (!a.factorizeLeading(n)) {
+  if (!s.system.factorize(inside)) {
     s.solver_ok = false;
     return;
   }
   s.solver_ok = true;
-  a.solveLeadingInPlace(n, rhs);
+  s.system.solveInPlace(inside, rhs);
 
   // Integrate the simulated segments.
   for (int k = 0; k < inside; ++k) {

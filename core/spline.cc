@@ -117,6 +117,19 @@ SegmentCubic segmentCubic(const Points& q, int segment) {
   const Vec3 d2b = apply(blend(n, segment, 1.0, 2), q);
   c.c2 = 0.5 * d2a;
   c.c3 = (d2b - d2a) / 6.0;
+  // c' = e1 + e2 p + e3 p^2 with e1 = c1, e2 = 2 c2, e3 = 3 c3; with d0 = c0 - x,
+  // g = e1.d0 + (e1.c1 + e2.d0) p + (e1.c2 + e2.c1 + e3.d0) p^2 + (e1.c3 + e2.c2 + e3.c1) p^3
+  //     + (e2.c3 + e3.c2) p^4 + e3.c3 p^5.
+  const Vec3 e1 = c.c1, e2 = 2.0 * c.c2, e3 = 3.0 * c.c3;
+  c.g_const[0] = e1.dot(c.c0);
+  c.g_const[1] = e1.dot(c.c1) + e2.dot(c.c0);
+  c.g_const[2] = e1.dot(c.c2) + e2.dot(c.c1) + e3.dot(c.c0);
+  c.g_const[3] = e1.dot(c.c3) + e2.dot(c.c2) + e3.dot(c.c1);
+  c.g_const[4] = e2.dot(c.c3) + e3.dot(c.c2);
+  c.g_const[5] = e3.dot(c.c3);
+  c.g_x[0] = e1;
+  c.g_x[1] = e2;
+  c.g_x[2] = e3;
   return c;
 }
 
@@ -134,16 +147,15 @@ double closestParameterOnCubic(const SegmentCubic& c, const Vec3& x, double p_lo
                                double* distance_m) {
   p_lo = std::clamp(p_lo, 0.0, 1.0);
   p_hi = std::clamp(p_hi, p_lo, 1.0);
-  // g(p) = c'(p) . (c(p) - x) / 1, a degree-5 polynomial: its coefficients once, then Horner.
-  const Vec3 d0 = c.c0 - x;
-  const Vec3 e1 = c.c1, e2 = 2.0 * c.c2, e3 = 3.0 * c.c3;  // c' = e1 + e2 p + e3 p^2
+  // g(p) = c'(p) . (c(p) - x), a degree-5 polynomial: its coefficients from the parts
+  // precomputed per segment (segmentCubic), then Horner.
   double g[6];
-  g[0] = e1.dot(d0);
-  g[1] = e1.dot(c.c1) + e2.dot(d0);
-  g[2] = e1.dot(c.c2) + e2.dot(c.c1) + e3.dot(d0);
-  g[3] = e1.dot(c.c3) + e2.dot(c.c2) + e3.dot(c.c1);
-  g[4] = e2.dot(c.c3) + e3.dot(c.c2);
-  g[5] = e3.dot(c.c3);
+  g[0] = c.g_const[0] - c.g_x[0].dot(x);
+  g[1] = c.g_const[1] - c.g_x[1].dot(x);
+  g[2] = c.g_const[2] - c.g_x[2].dot(x);
+  g[3] = c.g_const[3];
+  g[4] = c.g_const[4];
+  g[5] = c.g_const[5];
   auto G = [&](double p) { return g[0] + p * (g[1] + p * (g[2] + p * (g[3] + p * (g[4] + p * g[5])))); };
   auto dG = [&](double p) {
     return g[1] + p * (2 * g[2] + p * (3 * g[3] + p * (4 * g[4] + p * 5 * g[5])));
@@ -171,8 +183,10 @@ double closestParameterOnCubic(const SegmentCubic& c, const Vec3& x, double p_lo
           if (gp < 0) lo = p; else hi = p;
           const double slope = dG(p);
           double next = (slope > 0) ? p - gp / slope : 0.5 * (lo + hi);
+          // Converged: test this before the bracket, since a converged Newton step may
+          // land on the bracket end just moved to p, which would restart bisection.
+          if (std::abs(next - p) < 1e-12) { p = std::clamp(next, lo, hi); break; }
           if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-          if (std::abs(next - p) < 1e-12) { p = next; break; }
           p = next;
         }
         const double d = dist2(p);

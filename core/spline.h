@@ -69,6 +69,10 @@ struct ClosestPoint {
 /// per step and shared by every closest-point query on that segment.
 struct SegmentCubic {
   Vec3 c0 = Vec3::Zero(), c1 = Vec3::Zero(), c2 = Vec3::Zero(), c3 = Vec3::Zero();
+  /// g(p) = c'(p) . (c(p) - x) = sum_k (g_const[k] - g_x[k] . x) p^k: the parts of its
+  /// coefficients that do not depend on the query point x, computed once per segment.
+  double g_const[6] = {0, 0, 0, 0, 0, 0};
+  Vec3 g_x[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  ///< for k = 0, 1, 2 (c', 2 c2, 3 c3 ... )
   Vec3 at(double p) const { return c0 + p * (c1 + p * (c2 + p * c3)); }
 };
 SegmentCubic segmentCubic(const Points& q, int segment);

@@ -96,7 +96,7 @@ void Window::onButton(GLFWwindow* w, int button, int action, int mods) {
     int ww = 0, wh = 0;
     glfwGetCursorPos(w, &x, &y);
     glfwGetWindowSize(w, &ww, &wh);
-    if (x < 0.5 * ww) return;  // the left half is the onboard view: not steerable here
+    if (x < self->global_left_ * ww) return;  // left of it is the onboard view: not steerable here
     self->drag_button_ = button;
     self->drag_pan_ = button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT);
     glfwGetCursorPos(w, &self->last_x_, &self->last_y_);
@@ -124,7 +124,7 @@ void Window::onScroll(GLFWwindow* w, double, double dy) {
   int ww = 0, wh = 0;
   glfwGetCursorPos(w, &x, &y);
   glfwGetWindowSize(w, &ww, &wh);
-  if (x < 0.5 * ww) return;
+  if (x < self->global_left_ * ww) return;
   self->orbit_.zoom(dy > 0 ? 0.9 : 1.0 / 0.9);
 }
 

@@ -31,6 +31,12 @@ class Window {
 
   /// The global view's camera, steered by the mouse over the right half of the window.
   OrbitCamera& globalCamera() { return orbit_; }
+  /// Where the global view starts, as a fraction of the window's width: the mouse steers
+  /// it right of there (0.5: split view, the default; 0: it fills the window; 1: hidden).
+  void setGlobalViewLeft(double fraction) { global_left_ = fraction; }
+
+  /// The GLFW window, for polling keys and gamepads (colosim train).
+  GLFWwindow* handle() { return window_; }
 
   /// Split view: onboard on the left half, global on the right half.
   void drawSplit(Renderer& renderer, const ColonModel& model, const Points& q, const ScopeShape& scope,
@@ -47,6 +53,7 @@ class Window {
   GLFWwindow* window_ = nullptr;
   OrbitCamera orbit_;
   bool orbit_framed_ = false;  // framed on the colon at the first draw
+  double global_left_ = 0.5;   // the global view's left edge over the window's width
   int drag_button_ = -1;
   bool drag_pan_ = false;
   double last_x_ = 0, last_y_ = 0;

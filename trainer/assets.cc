@@ -77,6 +77,9 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   c.tension_EA_N = k_density * ref_len * ref_len;
   c.tension_EC_Ns = colon.quantity("tension_viscosity", "N s", 0.0, 1e3);
   c.control_point_spacing_m = colon.quantity("control_point_spacing", "m", 0.002, 0.1);
+  // Extensions of issue 7 (core/colon_extensions.h); 0 is the paper's model.
+  c.bending_EI_Nm2 = colon.quantity("bending_rigidity", "N m^2", 0.0, 10.0);
+  c.mesentery_stiffening_per_m2 = colon.quantity("mesentery_stiffening", "1/m^2", 0.0, 1e6);
   colon.finish();
 
   JsonObject mes = top.object("mesentery");

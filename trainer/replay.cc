@@ -25,11 +25,8 @@ SessionHeader sessionHeaderFor(const Scenario& scenario, const std::string& colo
   return h;
 }
 
-namespace {
-
-// One step with everything around it; shared by run and replay so they cannot differ.
-void stepOnce(Simulation& sim, const HandleInput& in, long step, Scorer& scorer, SessionWriter* writer,
-              const RunHooks& hooks) {
+void stepAndRecord(Simulation& sim, const HandleInput& in, long step, Scorer& scorer, SessionWriter* writer,
+                   const RunHooks& hooks) {
   if (writer) writer->input(step, in);
   sim.step(in);
   const long done = step + 1;
@@ -44,8 +41,6 @@ void stepOnce(Simulation& sim, const HandleInput& in, long step, Scorer& scorer,
   if (hooks.on_progress && done % 1000 == 0) hooks.on_progress(done);
 }
 
-}  // namespace
-
 RunResult runScenario(const Scenario& scenario, Simulation& sim, SessionWriter* writer, const RunHooks& hooks,
                       long steps) {
   if (steps < 0) steps = scenario.steps();
@@ -54,7 +49,7 @@ RunResult runScenario(const Scenario& scenario, Simulation& sim, SessionWriter* 
   for (long k = 0; k < steps; ++k) {
     // The input of step k is the script at the step's start time k dt.
     const HandleInput in = scriptedInput(scenario.script, static_cast<double>(k) * scenario.dt_s);
-    stepOnce(sim, in, k, scorer, writer, hooks);
+    stepAndRecord(sim, in, k, scorer, writer, hooks);
   }
   RunResult r;
   r.steps = steps;
@@ -103,7 +98,7 @@ ReplayResult replay(const ReplayPlan& plan, Simulation& sim, const RunHooks& hoo
   if (hooks.on_frame && hooks.frame_every_steps > 0) hooks.on_frame(sim, 0);
   for (long k = 0; k < s.steps; ++k) {
     while (next_input < s.inputs.size() && s.inputs[next_input].step == k) in = s.inputs[next_input++].input;
-    stepOnce(sim, in, k, scorer, nullptr, hooks);
+    stepAndRecord(sim, in, k, scorer, nullptr, hooks);
     if (next_checkpoint < s.checkpoints.size() && s.checkpoints[next_checkpoint].step == k + 1) {
       const SessionCheckpoint& c = s.checkpoints[next_checkpoint++];
       ++r.checkpoints_checked;

@@ -27,6 +27,13 @@ struct RunHooks {
   std::function<void(long steps_done)> on_progress;
 };
 
+/// One step with everything around it, shared by run, replay and interactive sessions so
+/// that they cannot differ: records the input of step `step` (writer, when given), steps,
+/// scores the telemetry, records the simulation's events and a checkpoint when due, then
+/// calls the hooks.
+void stepAndRecord(Simulation& sim, const HandleInput& in, long step, Scorer& scorer, SessionWriter* writer,
+                   const RunHooks& hooks = {});
+
 /// The header a recording of this scenario starts with.
 SessionHeader sessionHeaderFor(const Scenario& scenario, const std::string& colosim_version);
 

@@ -76,7 +76,7 @@ TEST(Scope, TipKnobBendsTheTipByTheCommandedAngleWhenFree) {
   const ScopeState s = insertAndHold(m, 0.4, 0.5, 1.0, right);
   const Vec3 shaft = s.R_WS[m.bending_joints].col(2), tip = s.R_WS[0].col(2);
   EXPECT_NEAR(angleBetween(shaft, tip) * 180 / M_PI, 160.0, 1.0);
-  EXPECT_GT(tip.dot(s.R_WS[m.bending_joints].col(0)), 0.2);  // towards d1: right
+  EXPECT_GT(tip.dot(-s.R_WS[m.bending_joints].col(0)), 0.2);  // towards -d1: the image's right
 }
 
 TEST(Scope, KnobsStopAtTheirLimits) {

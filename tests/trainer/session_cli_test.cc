@@ -1,6 +1,6 @@
 // `colosim score` and `colosim replay` end to end: exit codes, messages, JSON output.
-// Sessions are recorded here with the colon-only simulation, which is what the command
-// simulates until the scope is plugged in (trainer/app/simulation_factory.cc).
+// Sessions are recorded here with the colon + scope simulation (trainer/world_simulation.h),
+// which is what the command simulates (trainer/app/simulation_factory.cc).
 #include <array>
 #include <cstdio>
 #include <string>
@@ -10,6 +10,7 @@
 
 #include "fixture.h"
 #include "session_fixture.h"
+#include "trainer/world_simulation.h"
 #include "trainer/colon_simulation.h"
 #include "trainer/replay.h"
 
@@ -41,7 +42,7 @@ std::string record(const test::TempDir& dir, const std::string& name, int seed) 
   text.replace(text.find("\"seed\": 7"), 9, "\"seed\": " + std::to_string(seed));
   const Scenario sc = loadScenario(dir.write(name + ".json", text));
   const std::string path = dir.file(name + ".jsonl");
-  ColonOnlySimulation sim(sc);
+  WorldSimulation sim(sc);
   SessionWriter w(path, sessionHeaderFor(sc, "test"));
   runScenario(sc, sim, &w);
   return path;

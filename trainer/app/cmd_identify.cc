@@ -1,10 +1,13 @@
 // colosim identify DATA.csv [--json] [--report DIR] [--law-out FILE]: fits the paper's
 // Voigt law to a measured tension test, names the effects it misses, extends the law and
 // measures the gain (core/identify/identify.h; docs/identification.md).
+#include <filesystem>
+#include <fstream>
 #include <iostream>
 
 #include "core/identify/identify.h"
 #include "core/identify/report.h"
+#include "organ/identify_insertion.h"
 #include "trainer/app/commands.h"
 #include "trainer/tension_law_file.h"
 
@@ -19,8 +22,37 @@ struct IdentifyOptionsCli {
   std::string law_out;
 };
 
+// A recorded insertion (# experiment: insertion): identification at the organ level
+// (organ/identify_insertion.h; docs/organ-identification.md).
+int runIdentifyInsertion(const IdentifyOptionsCli& o) {
+  const InsertionRecording rec = readInsertionRecording(o.data);
+  const Scenario scenario = findScenario(rec.scenario);
+  const ReplaySetup setup = makeReplaySetup(scenario);
+  OrganIdentifyOptions opt;
+  const OrganIdentifyResult r = identifyInsertion(rec, setup, opt);
+  const nlohmann::json j = organIdentifyJson(rec, r);
+  if (!o.law_out.empty())
+    writeOrganParameters(o.law_out, scenario.params_path, r.extended, "colosim identify " + o.data);
+  if (!o.report.empty()) {
+    std::filesystem::create_directories(o.report);
+    std::ofstream(o.report + "/diagnosis.txt") << r.diagnosis;
+    std::ofstream(o.report + "/identify.json") << j.dump(2) << "\n";
+  }
+  if (o.json) {
+    std::cout << j.dump() << "\n";
+  } else {
+    std::cout << "colosim identify " << o.data << ": insertion, " << rec.rows() << " rows, scenario "
+              << rec.scenario << "\n" << r.diagnosis;
+    if (!o.law_out.empty())
+      std::cout << "Parameters written to " << o.law_out << " (colosim run " << rec.scenario << " --params FILE)\n";
+    if (!o.report.empty()) std::cout << "Report written to " << o.report << "/\n";
+  }
+  return 0;
+}
+
 int runIdentify(const IdentifyOptionsCli& o) {
   // Everything is read and computed before anything is written: a bad file changes nothing.
+  if (measurementExperiment(o.data) == "insertion") return runIdentifyInsertion(o);
   const TensionTest test = readTensionTest(o.data);
   const IdentifyResult r = identifyTension(test);
   if (!o.law_out.empty()) {
@@ -46,11 +78,13 @@ int runIdentify(const IdentifyOptionsCli& o) {
 void addIdentifyCommand(CLI::App& app, Action& action) {
   auto o = std::make_shared<IdentifyOptionsCli>();
   CLI::App* cmd = app.add_subcommand(
-      "identify", "Identify the colon's tension law from a measured tension test (CSV, docs/identification.md)");
-  cmd->add_option("DATA", o->data, "measurement file (# colosim-measurement v1, experiment: tension)")->required();
+      "identify", "Identify the colon's tension law from a measured tension test, or the organ-level model from a "
+      "recorded insertion (CSV, docs/identification.md, docs/organ-identification.md)");
+  cmd->add_option("DATA", o->data, "measurement file (# colosim-measurement v1, experiment: tension or insertion)")->required();
   cmd->add_flag("--json", o->json, "print one JSON object on stdout instead of text");
   cmd->add_option("--report", o->report, "write PNG plots (gnuplot) and the diagnosis into this folder");
-  cmd->add_option("--law-out", o->law_out, "write the identified law (JSON) for colosim run --tension-law");
+  cmd->add_option("--law-out", o->law_out, "write the identified law (JSON) for colosim run --tension-law; for an insertion, the "
+                  "identified parameter file for colosim run SCENARIO --params");
   cmd->callback([&action, o] { action = [o]() -> int { return runIdentify(*o); }; });
 }
 

@@ -1,10 +1,18 @@
-// colosim run [SCENARIO] [--duration S]: runs a scenario headless.
-// For now the one scenario is `settle`: the adult colon settling under gravity and its
-// mesentery from its rest shape.
+// colosim run SCENARIO [--duration S] [--record FILE] [--frames DIR] [--view ...] [--fps N]
+// [--size WxH] [--score] [--json]: a scenario's scripted inputs, headless, on the colon +
+// scope simulation. `settle` is the colon alone settling under gravity and its mesentery.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "trainer/app/commands.h"
+#include "trainer/app/simulation_factory.h"
+#include "trainer/progress.h"
+#include "trainer/replay.h"
+#include "trainer/scenario.h"
+#include "trainer/world_simulation.h"
 #include "trainer/assets.h"
 #include "trainer/settle.h"
 #include "trainer/strict_json.h"
@@ -16,11 +24,19 @@ namespace {
 
 struct RunOptions {
   std::string scenario = "settle";
-  double duration_s = 10.0;
-  double dt_s = 1e-3;
-  std::string params;
-  std::string anatomy;
+  double duration_s = -1;   // [s]; negative: the scenario's duration (10 s for settle)
+  double dt_s = 1e-3;       // settle only [s]
+  std::string params;       // settle only
+  std::string anatomy;      // settle only
   std::string tension_law;  // law file (colosim identify --law-out); empty: the parameters' Voigt law
+  std::string record;
+  std::string frames;
+  std::string view = "onboard";
+  double fps = 10;
+  std::string size = "640x480";
+  bool score = false;
+  bool json = false;
+  std::string query = "fcl";
 };
 
 int runSettle(const RunOptions& o) {
@@ -29,7 +45,7 @@ int runSettle(const RunOptions& o) {
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
   const ColonModel model =
       loadColonModel(o.anatomy.empty() ? assetPath("anatomy/adult.json") : o.anatomy, params, law);
-  const SettleSummary s = settleColon(model, o.duration_s, o.dt_s);
+  const SettleSummary s = settleColon(model, o.duration_s > 0 ? o.duration_s : 10.0, o.dt_s);
   std::printf("colosim run settle: adult colon, %d control points over %.3f m, %.1f s at dt = %.4f s (%ld steps)\n",
               s.n_control_points, s.length_m, s.duration_s, s.dt_s, s.steps);
   if (law) {
@@ -48,24 +64,104 @@ int runSettle(const RunOptions& o) {
   return s.finite ? 0 : 1;
 }
 
+
+void printScores(const nlohmann::json& scores) {
+  std::printf("  scores:\n");
+  for (auto it = scores.begin(); it != scores.end(); ++it) {
+    if (it.value().is_object() || it.value().is_array()) continue;
+    std::printf("    %-34s %s\n", it.key().c_str(), it.value().dump().c_str());
+  }
+}
+
+int runScripted(const RunOptions& o) {
+  // Every input is read and checked before any output is opened.
+  Scenario scenario = findScenario(o.scenario);
+  // An identified parameter file (colosim identify --law-out on a recorded insertion).
+  if (!o.params.empty()) scenario.params_path = o.params;
+  int width = 0, height = 0;
+  char extra = 0;
+  if (std::sscanf(o.size.c_str(), "%dx%d%c", &width, &height, &extra) != 2 || width < 16 || height < 16 ||
+      width > 8192 || height > 8192)
+    throw InputError("--size: expected WxH in pixels (16..8192), got '" + o.size + "'");
+  std::shared_ptr<const TensionLaw> law;
+  if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
+  if (!o.frames.empty()) {
+    std::error_code ec;
+    if (std::filesystem::exists(o.frames, ec) && !std::filesystem::is_empty(o.frames, ec))
+      throw InputError(o.frames + ": exists and is not empty (frames never overwrite files)");
+  }
+  const long steps = o.duration_s > 0 ? std::lround(o.duration_s / scenario.dt_s) : scenario.steps();
+  WorldSimulation sim(scenario, law, o.query);
+
+  std::unique_ptr<SessionWriter> writer;
+  if (!o.record.empty()) writer = std::make_unique<SessionWriter>(o.record, sessionHeaderFor(scenario, COLOSIM_VERSION));
+  RunHooks hooks;
+  ProgressBar bar("run " + scenario.name, steps, stderrIsTerminal());
+  hooks.on_progress = [&](long done) { bar.update(done); };
+  double peak_push = 0, peak_pull = 0, peak_torque = 0, max_loop = 0;
+  hooks.on_step = [&](const Telemetry& t) {
+    peak_push = std::max(peak_push, t.handle_force_N);
+    peak_pull = std::max(peak_pull, -t.handle_force_N);
+    peak_torque = std::max(peak_torque, std::abs(t.handle_torque_Nm));
+    max_loop = std::max(max_loop, t.loop_turns);
+  };
+  if (!o.frames.empty()) {
+    std::filesystem::create_directories(o.frames);
+    hooks.on_frame = makeFrameWriter(o.frames, o.view, width, height);
+    hooks.frame_every_steps = std::max(1L, std::lround(1.0 / (o.fps * scenario.dt_s)));
+  }
+  const RunResult r = runScenario(scenario, sim, writer.get(), hooks, steps);
+  bar.finish();
+  if (o.json) {
+    std::cout << (o.score ? r.scores.dump() : nlohmann::json{{"scenario", scenario.name}, {"steps", r.steps},
+                                                             {"final_state_hash", hashToHex(r.final_state_hash)}}
+                                                  .dump())
+              << "\n";
+    return 0;
+  }
+  const Telemetry t = sim.telemetry();
+  std::printf("colosim run %s: %ld steps (%.3f s at dt = %g s)\n", scenario.name.c_str(), r.steps,
+              r.steps * scenario.dt_s, scenario.dt_s);
+  std::printf("  insertion at end     %8.3f m (tip %.3f m from the caecal pole)\n", t.input.insertion_m,
+              t.tip_to_caecum_m);
+  std::printf("  handle force         peak push %.2f N, peak pull %.2f N, peak torque %.3f N m\n", peak_push,
+              peak_pull, peak_torque);
+  std::printf("  loop                 largest %.2f turns, %.2f turns at the end\n", max_loop, t.loop_turns);
+  std::printf("  final state hash     %s\n", hashToHex(r.final_state_hash).c_str());
+  if (!o.record.empty()) std::printf("  session recorded in  %s\n", o.record.c_str());
+  if (!o.frames.empty()) std::printf("  frames written in    %s\n", o.frames.c_str());
+  if (o.score) printScores(r.scores);
+  return 0;
+}
+
 }  // namespace
 
 void addRunCommand(CLI::App& app, Action& action) {
   auto o = std::make_shared<RunOptions>();
-  CLI::App* cmd = app.add_subcommand("run", "Run a scenario headless and print a summary");
-  cmd->add_option("SCENARIO", o->scenario, "scenario to run (for now: settle)")->capture_default_str();
-  cmd->add_option("--duration", o->duration_s, "simulated time [s]")
-      ->check(CLI::Range(1e-3, 1e5))->capture_default_str();
-  cmd->add_option("--dt", o->dt_s, "time step [s]")->check(CLI::Range(1e-5, 1e-2))->capture_default_str();
-  cmd->add_option("--params", o->params, "parameter file (default: assets/params/default.json)");
-  cmd->add_option("--anatomy", o->anatomy, "anatomy file (default: assets/anatomy/adult.json)");
+  CLI::App* cmd = app.add_subcommand("run", "Run a scenario's scripted inputs headless");
+  cmd->add_option("SCENARIO", o->scenario,
+                  "scenario file, or the name of one in assets/scenarios/; 'settle': the colon alone settling")
+      ->capture_default_str();
+  cmd->add_option("--duration", o->duration_s, "simulated time [s] (default: the scenario's)")
+      ->check(CLI::Range(1e-3, 1e5));
+  cmd->add_option("--record", o->record, "record the session into this file (JSON Lines)");
+  cmd->add_option("--frames", o->frames, "write PNG frames into this new or empty folder");
+  cmd->add_option("--view", o->view, "which view the frames show")
+      ->check(CLI::IsMember({"onboard", "global", "both"}))->capture_default_str();
+  cmd->add_option("--fps", o->fps, "frames per simulated second")->check(CLI::Range(0.1, 1000.0))->capture_default_str();
+  cmd->add_option("--size", o->size, "frame size WxH [px] (each view)")->capture_default_str();
+  cmd->add_flag("--score", o->score, "print the scores of the run");
+  cmd->add_flag("--json", o->json, "print one JSON object on stdout (the scores with --score)");
+  cmd->add_option("--query", o->query, "contact queries: fcl, fcl:MANAGER or the paper's scan")
+      ->capture_default_str();
   cmd->add_option("--tension-law", o->tension_law,
                   "tension law file for the colon's tension elements (written by colosim identify --law-out)");
+  cmd->add_option("--dt", o->dt_s, "time step [s] (settle only)")->check(CLI::Range(1e-5, 1e-2))->capture_default_str();
+  cmd->add_option("--params", o->params, "parameter file (for a scenario: replaces the one it names, e.g. written by colosim identify "
+                  "--law-out on a recorded insertion)");
+  cmd->add_option("--anatomy", o->anatomy, "anatomy file (settle only; scenarios name their own)");
   cmd->callback([&action, o] {
-    action = [o]() -> int {
-      if (o->scenario != "settle") throw InputError("unknown scenario '" + o->scenario + "' (known: settle)");
-      return runSettle(*o);
-    };
+    action = [o]() -> int { return o->scenario == "settle" ? runSettle(*o) : runScripted(*o); };
   });
 }
 

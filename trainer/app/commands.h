@@ -16,5 +16,6 @@ void addBenchCommand(CLI::App& app, Action& action);
 void addScoreCommand(CLI::App& app, Action& action);
 void addReplayCommand(CLI::App& app, Action& action);
 void addIdentifyCommand(CLI::App& app, Action& action);
+void addTrainCommand(CLI::App& app, Action& action);
 
 }  // namespace colosim::app

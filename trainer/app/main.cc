@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   colosim::app::addScoreCommand(app, action);
   colosim::app::addReplayCommand(app, action);
   colosim::app::addIdentifyCommand(app, action);
+  colosim::app::addTrainCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

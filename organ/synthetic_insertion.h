@@ -1,0 +1,43 @@
+// Synthetic insertion recordings: the simulator with a hidden extension switched on, plus
+// sensor noise and offsets (tests and assets/measurements/; docs/organ-identification.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "organ/replay.h"
+
+namespace colosim {
+
+struct SyntheticInsertionSpec {
+  std::string scenario = "free_insertion";
+  double duration_s = 4.0;
+  double sample_hz = 100.0;
+  std::string effect;              ///< hidden effect ("" for none)
+  double value = 0;                ///< its magnitude
+  // The protocol: push at push_speed, a short hold, pull back pull_back_m, push again.
+  double start_insertion_m = 0.12;  ///< the scope starts threaded to this depth [m]
+  double push_speed_m_per_s = 0.05;
+  double pull_back_m = 0.03;
+  double rotation_amplitude_rad = 0.3;
+  double knob_updown_rad = 0.3;
+  // Sensors.
+  double force_noise_N = 0.04, force_offset_N = 0.1;
+  double torque_noise_Nm = 0.002, torque_offset_Nm = 0.005;
+  double tip_noise_m = 0.001;
+  bool with_tip = true;
+  uint64_t seed = 1;
+};
+
+/// Draws a spec with seeded std::mt19937_64: the effect (one of `effects`, or none when
+/// `effect_index` < 0), its magnitude from a physiological range, the protocol and the noise.
+SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s);
+
+/// The range the magnitude of an effect is drawn from in tests.
+std::pair<double, double> syntheticRange(const std::string& effect);
+
+/// Runs the simulator (resolution of `setup`) with the hidden effect and writes the noisy
+/// recording's rows; metadata says SYNTHETIC and what was hidden.
+InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const SyntheticInsertionSpec& spec);
+
+}  // namespace colosim

@@ -1,0 +1,196 @@
+#include "trainer/world_simulation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/colon_step.h"
+#include "core/scope_step.h"
+#include "trainer/assets.h"
+#include "trainer/colon_simulation.h"
+#include "trainer/scenario.h"
+
+namespace colosim {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Onboard optics for the view measures: half of the ~140 deg diagonal field of view,
+// and how far the tip light shows the wall usefully (the scores' "within 5 cm").
+constexpr double kHalfFieldOfView_rad = 70.0 * kPi / 180.0;
+constexpr double kViewDistance_m = 0.05;
+constexpr double kRedoutDistance_m = 0.004;  // the lens closer than this to the wall: red-out
+constexpr double kLumenLookahead_m = 0.04;   // the lumen ahead: the centreline 4 cm further on
+
+// The colon location nearest x, searched around a tracked segment (+-3 segments).
+ClosestPoint nearestAround(const Points& q, int tracked, const Vec3& x) {
+  const int nseg = static_cast<int>(q.cols()) - 1;
+  ClosestPoint best;
+  best.distance = -1;
+  const int lo = tracked < 0 ? 0 : std::max(0, tracked - 3);
+  const int hi = tracked < 0 ? nseg - 1 : std::min(nseg - 1, tracked + 3);
+  for (int j = lo; j <= hi; ++j) {
+    const ClosestPoint c = closestPointOnSegment(q, j, x);
+    if (best.distance < 0 || c.distance < best.distance) best = c;
+  }
+  return best;
+}
+
+}  // namespace
+
+WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law,
+                                 const std::string& query_mode)
+    : dt_s_(scenario.dt_s) {
+  Parameters params = loadParameters(scenario.params_path);
+  if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
+  if (scenario.overrides.wall_friction) params.contact.friction_coefficient = *scenario.overrides.wall_friction;
+  model_ = loadWorldModel(scenario.anatomy_path, params, std::move(law));
+  query_ = makeContactQuery(model_, query_mode);
+  state_ = makeWorldState(model_);
+  if (scenario.start.kind == "settled") {
+    // The colon settles under gravity with the scope out; the clock starts afterwards.
+    const long steps = std::lround(scenario.start.settle_s / dt_s_);
+    for (long k = 0; k < steps; ++k) stepColon(model_.colon, state_.colon, dt_s_);
+    state_.colon.time_s = 0.0;
+  }
+  init(scenario.script.empty() ? HandleInput() : scenario.script.front().input);
+}
+
+WorldSimulation::WorldSimulation(WorldModel model, double dt_s, const HandleInput& start,
+                                 const std::string& query_mode)
+    : model_(std::move(model)), dt_s_(dt_s) {
+  query_ = makeContactQuery(model_, query_mode);
+  state_ = makeWorldState(model_);
+  init(start);
+}
+
+void WorldSimulation::init(const HandleInput& start) {
+  // A script that starts with the scope already in: thread it along the colon there
+  // (pushing it in within one step would be a 1 kHz jump).
+  if (start.insertion_m > 0) threadScopeAlongColon(model_, state_, start.insertion_m, start.rotation_rad);
+  state_.scope.input = clampHandleInput(model_.scope, start);
+  for (int j = 0; j + 1 < model_.colon.n; ++j) {
+    if (model_.colon.region_names[model_.colon.segment_region[j]] != "sigmoid") continue;
+    if (sigmoid_first_ < 0) sigmoid_first_ = j;
+    sigmoid_last_ = j + 1;
+  }
+  measure();
+}
+
+void WorldSimulation::step(const HandleInput& in) {
+  stepWorld(model_, state_, in, *query_, dt_s_);
+  measure();
+}
+
+std::vector<std::string> WorldSimulation::events() const {
+  std::vector<std::string> e;
+  if (!state_.colon.solver_ok) e.push_back("solver_failed_colon");
+  if (!state_.scope.solver_ok) e.push_back("solver_failed_scope");
+  return e;
+}
+
+std::vector<Vec3> WorldSimulation::scopeCentreline() const {
+  const ScopeState& s = state_.scope;
+  const double h = model_.scope.h_m;
+  std::vector<Vec3> line;
+  // A few centimetres outside the anus, then every simulated segment's proximal end, then the tip.
+  const int base = s.inside;
+  line.push_back(s.p_W[base] - 1.5 * h * s.R_WS[base].col(2));
+  line.push_back(s.p_W[base] + 0.5 * h * s.R_WS[base].col(2));
+  for (int k = s.inside - 1; k >= 0; --k) line.push_back(s.p_W[k] + 0.5 * h * s.R_WS[k].col(2));
+  return line;
+}
+
+void WorldSimulation::measure() {
+  const ColonModel& colon = model_.colon;
+  const ScopeModel& scope = model_.scope;
+  const WorldState& s = state_;
+  Telemetry& t = telemetry_;
+  t = Telemetry();
+  t.time_s = s.colon.time_s;
+  t.input = s.scope.input;
+  t.handle_force_N = s.scope.handle.force_N;
+  t.handle_torque_Nm = s.scope.handle.torque_Nm;
+  // Peak wall force: the largest force one scope segment (1.5 cm) puts on the wall.
+  {
+    double seg_force = 0, peak = 0;
+    int seg = -1;
+    for (const WallContact& c : s.wall) {
+      if (c.scope_segment != seg) seg = c.scope_segment, seg_force = 0;
+      seg_force += c.force_N;
+      peak = std::max(peak, seg_force);
+    }
+    t.wall_force_peak_N = peak;
+  }
+  const Vec3 tip = tipPosition(scope, s.scope);
+  t.tip_position_m = tip;
+  t.tip_to_caecum_m = (tip - s.colon.q.col(colon.n - 1)).norm();
+  t.mesentery_stretch = mesenteryStretch(colon, s.colon);
+  t.patch_count = (colon.n - 1) * kPatchSectors;
+  if (s.scope.inside == 0) {
+    t.lumen_visible = true;
+    return;
+  }
+
+  // Loop measure: the scope inside the sigmoid, projected on the coronal plane (normal:
+  // the antero-posterior axis), against the rest sigmoid over the same stretch.
+  const int P = static_cast<int>(scope.interaction_points_S.size());
+  std::vector<Vec3> loop, rest;
+  int lo = colon.n, hi = -1;
+  for (int k = s.scope.inside - 1; k >= 0; --k) {
+    const int j = s.track[k * P].colon_segment;
+    if (j < 0 || j < sigmoid_first_ || j >= sigmoid_last_) continue;
+    loop.push_back(s.scope.p_W[k]);
+    lo = std::min(lo, j);
+    hi = std::max(hi, j + 1);
+  }
+  if (loop.size() >= 3) {
+    for (int i = lo; i <= hi; ++i) rest.push_back(colon.q_rest.col(i));
+    const Vec3 coronal_normal(0, 1, 0);
+    t.loop_turns = std::abs(netTurns(loop, coronal_normal) - netTurns(rest, coronal_normal));
+  }
+
+  // The view from the tip: red-out, lumen ahead, wall patches seen.
+  const Mat3& R = s.scope.R_WS[0];
+  const Vec3 forward = R.col(2);
+  const int tracked = s.track[0].colon_segment;
+  const ClosestPoint ahead = nearestAround(s.colon.q, tracked, tip + kRedoutDistance_m * forward);
+  t.tip_against_wall = ahead.distance > colon.radiusAt(ahead.segment, ahead.p);
+  const ClosestPoint here = nearestAround(s.colon.q, tracked, tip);
+  const double s_here = colon.arclengthAt(here.segment, here.p);
+  // The centreline point kLumenLookahead_m further towards the caecum (rest arclength).
+  const double s_target = std::min(s_here + kLumenLookahead_m, colon.length_m());
+  int jt = here.segment;
+  while (jt + 1 < colon.n - 1 && colon.s_rest_m(jt + 1) < s_target) ++jt;
+  const double pt = std::clamp((s_target - colon.s_rest_m(jt)) / colon.segment_length_m(jt), 0.0, 1.0);
+  const Vec3 to_lumen = splinePoint(s.colon.q, jt, pt) - tip;
+  t.lumen_visible = !t.tip_against_wall && to_lumen.norm() > 1e-6 &&
+                    std::acos(std::clamp(to_lumen.normalized().dot(forward), -1.0, 1.0)) < kHalfFieldOfView_rad;
+  // Patches: kPatchSectors around each colon segment near the tip; seen when within 5 cm,
+  // in the field of view (the tip light lights what the camera sees). Occlusion by folds
+  // is not modelled.
+  const int j0 = std::max(0, here.segment - 4), j1 = std::min(colon.n - 2, here.segment + 4);
+  for (int j = j0; j <= j1; ++j) {
+    const Vec3 c = splinePoint(s.colon.q, j, 0.5);
+    const Vec3 tangent = splineTangent(s.colon.q, j, 0.5).normalized();
+    Vec3 u = tangent.cross(Vec3::UnitZ());
+    if (u.norm() < 1e-6) u = tangent.cross(Vec3::UnitX());
+    u.normalize();
+    const Vec3 w = tangent.cross(u);
+    const double r = colon.radiusAt(j, 0.5);
+    for (int a = 0; a < kPatchSectors; ++a) {
+      const double ang = 2 * kPi * (a + 0.5) / kPatchSectors;
+      const Vec3 patch = c + r * (std::cos(ang) * u + std::sin(ang) * w);
+      const Vec3 d = patch - tip;
+      const double dist = d.norm();
+      if (dist > kViewDistance_m || dist < 1e-6) continue;
+      if (std::acos(std::clamp(d.dot(forward) / dist, -1.0, 1.0)) > kHalfFieldOfView_rad) continue;
+      t.patches_seen.push_back(j * kPatchSectors + a);
+    }
+  }
+}
+
+std::unique_ptr<Simulation> makeWorldSimulation(const Scenario& scenario) {
+  return std::make_unique<WorldSimulation>(scenario);
+}
+
+}  // namespace colosim

@@ -1,0 +1,61 @@
+// The simulation colosim runs: colon, colonoscope and their contacts (core/world.h) with
+// FCL queries (collision/), behind the trainer's Simulation interface, plus the
+// measurements scoring needs (telemetry).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "collision/contact_query.h"
+#include "core/world.h"
+#include "trainer/simulation.h"
+
+namespace colosim {
+
+struct Scenario;
+
+class WorldSimulation : public Simulation {
+ public:
+  /// Loads the scenario's anatomy and parameters with its overrides, applies its start
+  /// state (a first keyframe with the scope already in is threaded along the colon), and
+  /// queries contacts in `query_mode` ("fcl" or "scan"). InputError for unusable files.
+  /// `law` replaces the parameters' Voigt tension law when given (colosim identify --law-out).
+  explicit WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law = nullptr,
+                           const std::string& query_mode = "fcl");
+  /// The same from a world model built elsewhere (tests, identification).
+  WorldSimulation(WorldModel model, double dt_s, const HandleInput& start, const std::string& query_mode = "fcl");
+
+  void step(const HandleInput& in) override;
+  double time_s() const override { return state_.colon.time_s; }
+  uint64_t stateHash() const override { return hashWorldState(state_); }
+  Telemetry telemetry() const override { return telemetry_; }
+  std::vector<std::string> events() const override;
+
+  const WorldModel& model() const { return model_; }
+  const WorldState& state() const { return state_; }
+  WorldState& mutableState() { return state_; }
+  double dt_s() const { return dt_s_; }
+
+  /// The scope's centreline from just outside the anus to the tip [m] (for drawing).
+  std::vector<Vec3> scopeCentreline() const;
+
+  /// Wall patches used for "% mucosa visualised": kPatchSectors around each colon segment.
+  static constexpr int kPatchSectors = 8;
+
+ private:
+  void init(const HandleInput& start);
+  void measure();
+
+  WorldModel model_;
+  WorldState state_;
+  std::unique_ptr<ContactQuery> query_;
+  double dt_s_ = 1e-3;
+  Telemetry telemetry_;
+  int sigmoid_first_ = -1, sigmoid_last_ = -1;  ///< control points of the sigmoid (rest arclength order)
+};
+
+/// A SimulationFactory building WorldSimulation (FCL queries).
+std::unique_ptr<Simulation> makeWorldSimulation(const Scenario& scenario);
+
+}  // namespace colosim
