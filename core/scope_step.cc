@@ -226,7 +226,10 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
   // with is slowed to that speed or spin.
   const double v_max = m.params.max_speed_m_per_s, w_max = m.params.max_spin_rad_per_s;
   for (int k = 0; k < inside; ++k) {
-    if (!s.solver_ok) s.v_W[k].setZero(), s.w_W[k].setZero();
+    if (!s.solver_ok) {
+      s.v_W[k].setZero();
+      s.w_W[k].setZero();
+    }
     s.v_W[k] += Vec3(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]);
     s.w_W[k] += Vec3(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]);
     const double speed = s.v_W[k].norm(), spin = s.w_W[k].norm();

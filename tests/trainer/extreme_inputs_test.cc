@@ -7,6 +7,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <string>
 
 #include "core/colon_step.h"
 #include "core/scope_step.h"
