@@ -17,10 +17,16 @@ struct BenchOutput {
   std::string text;     ///< printed otherwise, for people
 };
 
+/// Options of `colosim bench` that some benchmarks take.
+struct BenchOptions {
+  double hours = 1.0;  ///< simulated hours (endurance) [h]
+};
+
 struct BenchEntry {
   std::string name;
   std::string description;
-  std::function<BenchOutput()> run;
+  std::function<BenchOutput(const BenchOptions&)> run;
+  bool takes_hours = false;  ///< reads BenchOptions::hours (--hours)
 };
 
 /// All benchmarks, in a fixed order.
@@ -32,5 +38,6 @@ BenchOutput benchContacts();
 BenchOutput benchUntwist();
 BenchOutput benchIdentify();
 BenchOutput benchRender();
+BenchOutput benchEndurance(const BenchOptions& options);
 
 }  // namespace colosim

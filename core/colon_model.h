@@ -93,6 +93,13 @@ struct ColonModel {
   double mass_per_length_kg_per_m = 0;
   std::shared_ptr<const TensionLaw> tension_law;
 
+  /// Solver limit (docs/hardening.md): the largest speed of a control point the one-step
+  /// implicit solve is trusted with [m/s]. 5 m/s is 5 mm per 1 ms step, a third of the
+  /// 1.5 cm control-point spacing: beyond it the step's linearisation of the tension
+  /// elements and contacts no longer holds. Faster points are slowed to it and counted
+  /// (ColonState::limited_points). Not a tissue property: no parameter file sets it.
+  double max_speed_m_per_s = 5.0;
+
   double length_m() const { return s_rest_m(n - 1); }
   /// Lumen radius at (segment, p), linear between control points [m].
   double radiusAt(int segment, double p) const {

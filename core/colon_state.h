@@ -32,7 +32,9 @@ struct ColonState {
 
   // Outputs of the last step.
   Eigen::VectorXd tension_force_N;  ///< axial force of each element (n-1) [N]
-  bool solver_ok = true;            ///< false when the last implicit solve failed
+  bool solver_ok = true;            ///< false when the last implicit solve failed (or gave non-finite values)
+  int limited_points = 0;           ///< control points slowed to ColonModel::max_speed_m_per_s in the last step
+  double asked_speed_m_per_s = 0;   ///< the largest speed the last solve asked for, before limiting [m/s]
 
   // Scratch, sized by makeColonState() so that the step allocates nothing.
   BandedSpd system;                 ///< M + dt C + dt^2 K (3n, half-bandwidth 11)

@@ -202,20 +202,34 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
 
   // Solve (M + dt C + dt^2 K) dv = dt f - dt^2 K v.
   for (int k = 0; k < 3 * n; ++k) rhs[k] += dt * f[k];
-  if (!s.system.factorize()) {
-    s.solver_ok = false;
+  s.limited_points = 0;
+  s.asked_speed_m_per_s = 0;
+  s.solver_ok = s.system.factorize();
+  if (s.solver_ok) {
+    s.system.solveInPlace(rhs);
+    for (int k = 0; k < 3 * n; ++k) s.solver_ok = s.solver_ok && std::isfinite(rhs[k]);
+  }
+  if (!s.solver_ok) {  // limit: the colon stops for this step rather than carry NaN on
+    s.v.setZero();
+    s.time_s += dt;
     return;
   }
-  s.solver_ok = true;
-  s.system.solveInPlace(rhs);
 
-  // Integrate: v += dv, q += dt v.
+  // Limit: a control point faster than the solve is trusted with is slowed to that speed.
   double* vw = s.v.data();
-  double* qw = s.q.data();
-  for (int k = 0; k < 3 * n; ++k) {
-    vw[k] += rhs[k];
-    qw[k] += dt * vw[k];
+  for (int i = 0; i < n; ++i) {
+    Eigen::Map<Vec3> vi(vw + 3 * i);
+    vi += Eigen::Map<const Vec3>(rhs + 3 * i);
+    const double speed = vi.norm();
+    s.asked_speed_m_per_s = std::max(s.asked_speed_m_per_s, speed);
+    if (speed > m.max_speed_m_per_s) {
+      vi *= m.max_speed_m_per_s / speed;
+      ++s.limited_points;
+    }
   }
+  // Integrate: q += dt v.
+  double* qw = s.q.data();
+  for (int k = 0; k < 3 * n; ++k) qw[k] += dt * vw[k];
   s.time_s += dt;
 
   // Internal variables of history-dependent tension laws, at the end of the step.

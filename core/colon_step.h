@@ -21,8 +21,12 @@ namespace colosim {
 /// Advances `state` by dt_s [s]: gravity, mesentery lifters, tension elements, the
 /// extensions of colon_extensions.h when the model switches them on, and the loads in
 /// state.loads. Allocates nothing. Leaves state.loads untouched (callers
-/// clear them). On a failed factorisation (never expected: the matrix is SPD by
-/// construction) it sets state.solver_ok = false and leaves q and v unchanged.
+/// clear them).
+/// Limits (docs/hardening.md): a control point whose new speed exceeds
+/// model.max_speed_m_per_s is slowed to it (counted in state.limited_points). When the
+/// factorisation fails (never expected: the matrix is SPD by construction) or the solve
+/// gives a non-finite velocity change, state.solver_ok = false, q stays, v is set to zero
+/// (the colon stops rather than carry NaN on) and time advances.
 void stepColon(const ColonModel& model, ColonState& state, double dt_s);
 
 /// Energies of the colon [J].

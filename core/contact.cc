@@ -12,7 +12,11 @@ bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a,
 
 double applyWallContacts(const ContactParams& P, const ColonModel& colon, const ColonState& cs,
                          const ScopeModel& /*scope*/, const ScopeState& ss, std::vector<WallContact>& contacts,
-                         std::vector<SplineLoad>& colon_loads, std::vector<ScopeLoad>& scope_loads) {
+                         std::vector<SplineLoad>& colon_loads, std::vector<ScopeLoad>& scope_loads,
+                         ContactLimitReport* report) {
+  ContactLimitReport local;
+  ContactLimitReport& rep = report ? *report : local;
+  rep = ContactLimitReport();
   double max_force = 0;
   const Mat3 I3 = Mat3::Identity();
   for (WallContact& c : contacts) {
@@ -25,6 +29,11 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     const double v_n = v_rel.dot(n);  // > 0: moving deeper into the wall
     // Eq. 7: F = k_wall depth + f_wall (v . n), pushing the point back into the lumen.
     const double f_n = P.wall_stiffness_N_per_m * c.depth_m + P.wall_damping_Ns_per_m * v_n;
+    if (!std::isfinite(f_n)) {  // limit: non-finite geometry or velocity: the contact is dropped
+      c.force_N = c.normal_force_N = 0;
+      ++rep.non_finite;
+      continue;
+    }
     if (!(f_n > 0)) {  // separating faster than the spring pushes: no adhesion
       c.force_N = c.normal_force_N = 0;
       continue;
@@ -34,13 +43,27 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     const Vec3 v_t = v_rel - v_n * n;
     const double slip = std::sqrt(v_t.squaredNorm() + P.friction_velocity_m_per_s * P.friction_velocity_m_per_s);
     const double mu_over_slip = P.friction_coefficient * f_n / slip;
-    const Vec3 f_scope = -f_n * n - mu_over_slip * v_t;
+    Vec3 f_scope = -f_n * n - mu_over_slip * v_t;
+    const double asked = f_scope.norm();
+    if (!std::isfinite(asked) || !n.allFinite()) {  // limit: a non-finite force is dropped
+      c.force_N = c.normal_force_N = 0;
+      ++rep.non_finite;
+      continue;
+    }
+    rep.asked_N = std::max(rep.asked_N, asked);
+    const Mat3 nn = n * n.transpose();
+    Mat3 K = P.wall_stiffness_N_per_m * nn;
+    Mat3 C = P.wall_damping_Ns_per_m * nn + mu_over_slip * (I3 - nn);
+    if (asked > P.max_point_force_N) {  // limit: scaled down to the largest trusted force
+      const double scale = P.max_point_force_N / asked;
+      f_scope *= scale;
+      K *= scale;
+      C *= scale;
+      c.normal_force_N *= scale;
+      ++rep.limited;
+    }
     c.force_N = f_scope.norm();
     max_force = std::max(max_force, c.force_N);
-
-    const Mat3 nn = n * n.transpose();
-    const Mat3 K = P.wall_stiffness_N_per_m * nn;
-    const Mat3 C = P.wall_damping_Ns_per_m * nn + mu_over_slip * (I3 - nn);
 
     ScopeLoad sl;
     sl.segment = k;

@@ -23,6 +23,19 @@ struct ContactParams {
   /// (pi: a tube folded back on itself with a bend radius equal to its own radius).
   double self_neighbour_radii = 3.14159265358979323846;
   double query_margin_m = 0.01;           ///< how far outside the lumen a point is still found by the broadphase [m]
+  /// Solver limit (docs/hardening.md): the largest force one interaction point puts on
+  /// the wall [N]. 20 N is 2 cm into the 1000 N/m wall, most of a colon radius outside the
+  /// lumen, where the penalty contact no longer stands for the wall (and 4 times the
+  /// scores' 5 N excessive-force threshold per 1.5 cm of scope). A larger force is scaled
+  /// down to it, with its stiffness and damping, and counted.
+  double max_point_force_N = 20.0;
+};
+
+/// What the contact force limit did in one call of applyWallContacts.
+struct ContactLimitReport {
+  int limited = 0;          ///< contacts whose force was scaled down to max_point_force_N
+  int non_finite = 0;       ///< contacts dropped because their force was not finite
+  double asked_N = 0;       ///< the largest force asked for, before limiting [N]
 };
 
 /// An interaction point of the scope outside the lumen (a query result).
@@ -55,11 +68,13 @@ struct WallTrack {
 /// Computes the viscoelastic normal force of eq. 7 with regularised Coulomb friction for
 /// every wall contact, and appends the loads on the scope (at the interaction point) and
 /// on the colon (at M_j(p), opposite) with their stiffness and damping. Returns the
-/// largest contact force magnitude [N] and fills WallContact::force_N.
+/// largest contact force magnitude [N] and fills WallContact::force_N. A force above
+/// params.max_point_force_N is scaled down to it (force, stiffness and damping alike); a
+/// non-finite one is dropped; both are counted in `report` when given.
 double applyWallContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,
                          const ScopeModel& scope, const ScopeState& scope_state,
                          std::vector<WallContact>& contacts, std::vector<SplineLoad>& colon_loads,
-                         std::vector<ScopeLoad>& scope_loads);
+                         std::vector<ScopeLoad>& scope_loads, ContactLimitReport* report = nullptr);
 
 /// Appends the loads of the colon self-contacts (equal and opposite at the two control points).
 void applySelfContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,

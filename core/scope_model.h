@@ -33,6 +33,13 @@ struct ScopeParams {
   double drag_Ns_per_m2 = 1.0;            ///< viscous drag per length of the inserted tube [N s/m per m]
   int slices_per_segment = 1;             ///< slices of interaction points per segment (paper Fig. 5)
   int points_per_slice = 6;               ///< interaction points around each slice
+  /// Solver limits (docs/hardening.md): the largest segment speed and spin the one-step
+  /// linearised solve is trusted with. 5 m/s is 5 mm per 1 ms step, a third of a segment;
+  /// 250 rad/s is 0.25 rad per step, where the joints' linearised rotations (log map,
+  /// right Jacobian) start to fail. Faster segments are slowed to them and counted
+  /// (ScopeState::limited_segments). The handle's own 10 turns/s is 63 rad/s.
+  double max_speed_m_per_s = 5.0;         ///< [m/s]
+  double max_spin_rad_per_s = 250.0;      ///< [rad/s]
 };
 
 struct ScopeModel {

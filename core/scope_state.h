@@ -37,7 +37,10 @@ struct ScopeState {
   double time_s = 0;       ///< [s]
   std::vector<ScopeLoad> loads;  ///< loads for the next step (cleared by the caller)
   HandleReaction handle;   ///< reaction after the last step
-  bool solver_ok = true;
+  bool solver_ok = true;   ///< false when the last solve failed or gave non-finite values (velocities then zeroed)
+  int limited_segments = 0;        ///< segments slowed to the speed or spin limit in the last step
+  double asked_speed_m_per_s = 0;  ///< largest segment speed the last solve asked for, before limiting [m/s]
+  double asked_spin_rad_per_s = 0; ///< largest segment spin the last solve asked for, before limiting [rad/s]
 
   // Scratch, sized by makeScopeState() so that the step allocates nothing.
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours

@@ -213,17 +213,33 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
   // Solve (M + dt C + dt^2 K) du = dt f - dt^2 K u on the simulated segments: a block
   // tridiagonal system (6 x 6 blocks), by block Cholesky.
   for (int i = 0; i < n; ++i) rhs[i] += dt * f[i];
-  if (!s.system.factorize(inside)) {
-    s.solver_ok = false;
-    return;
+  s.limited_segments = 0;
+  s.asked_speed_m_per_s = s.asked_spin_rad_per_s = 0;
+  s.solver_ok = s.system.factorize(inside);
+  if (s.solver_ok) {
+    s.system.solveInPlace(inside, rhs);
+    for (int i = 0; i < n; ++i) s.solver_ok = s.solver_ok && std::isfinite(rhs[i]);
   }
-  s.solver_ok = true;
-  s.system.solveInPlace(inside, rhs);
+  if (!s.solver_ok) std::fill(rhs, rhs + n, 0.0);  // limit: the segments stop (below) rather than carry NaN on
 
-  // Integrate the simulated segments.
+  // Integrate the simulated segments; limit: a segment faster than the solve is trusted
+  // with is slowed to that speed or spin.
+  const double v_max = m.params.max_speed_m_per_s, w_max = m.params.max_spin_rad_per_s;
   for (int k = 0; k < inside; ++k) {
+    if (!s.solver_ok) {
+      s.v_W[k].setZero();
+      s.w_W[k].setZero();
+    }
     s.v_W[k] += Vec3(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]);
     s.w_W[k] += Vec3(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]);
+    const double speed = s.v_W[k].norm(), spin = s.w_W[k].norm();
+    s.asked_speed_m_per_s = std::max(s.asked_speed_m_per_s, speed);
+    s.asked_spin_rad_per_s = std::max(s.asked_spin_rad_per_s, spin);
+    if (speed > v_max || spin > w_max) {
+      if (speed > v_max) s.v_W[k] *= v_max / speed;
+      if (spin > w_max) s.w_W[k] *= w_max / spin;
+      ++s.limited_segments;
+    }
     s.p_W[k] += dt * s.v_W[k];
     s.R_WS[k] = expSO3(dt * s.w_W[k]) * s.R_WS[k];
     orthonormalize(s.R_WS[k]);

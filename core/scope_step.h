@@ -17,6 +17,10 @@ namespace colosim {
 /// Advances the scope by dt_s with the handle inputs `in` (clamped): updates the
 /// kinematic part outside the patient, adds or removes simulated segments at the anus,
 /// integrates the inside part with state.loads, and computes state.handle. Allocates nothing.
+/// Limits (docs/hardening.md): a segment whose new speed or spin exceeds
+/// model.params.max_speed_m_per_s or max_spin_rad_per_s is slowed to it (counted in
+/// state.limited_segments); a failed factorisation or a non-finite solve sets
+/// state.solver_ok = false and stops the inside segments for the step (no NaN carried on).
 void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s);
 
 /// Rest relative rotation of joint k (between segment k and k+1) for the knob angles [rad].

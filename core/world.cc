@@ -40,7 +40,7 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
   s.colon.loads.clear();
   s.scope.loads.clear();
   s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall,
-                                         s.colon.loads, s.scope.loads);
+                                         s.colon.loads, s.scope.loads, &s.contact_limit);
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
   // Solve and integrate, each body with the other's contact forces held over the step.
   stepColon(m.colon, s.colon, dt);
@@ -88,6 +88,11 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
     sc.p_W[k] = 0.5 * (a + b);
   }
   for (WallTrack& t : s.track) t = WallTrack();
+}
+
+int limitedCount(const WorldState& s) {
+  return s.contact_limit.limited + s.contact_limit.non_finite + s.colon.limited_points + s.scope.limited_segments +
+         (s.colon.solver_ok ? 0 : 1) + (s.scope.solver_ok ? 0 : 1);
 }
 
 uint64_t hashWorldState(const WorldState& s) {

@@ -33,7 +33,13 @@ struct WorldState {
   std::vector<SelfContact> self;   ///< colon self-contacts found at the start of the last step
   std::vector<WallTrack> track;    ///< per interaction point (segment-major): last spline location
   double max_wall_force_N = 0;     ///< largest interaction-point force in the last step [N]
+  ContactLimitReport contact_limit;  ///< what the contact force limit did in the last step
 };
+
+/// How many quantities the solver limits changed in the last step (docs/hardening.md):
+/// contact forces scaled down or dropped, scope segments and colon control points slowed,
+/// failed or non-finite solves. 0 in a step the solvers kept up with.
+int limitedCount(const WorldState& state);
 
 WorldState makeWorldState(const WorldModel& model);
 

@@ -59,8 +59,8 @@ Telemetry ColonOnlySimulation::telemetry() const {
   return t;
 }
 
-std::vector<std::string> ColonOnlySimulation::events() const {
-  if (!state_.solver_ok) return {"solver_failed"};
+std::vector<SimulationEvent> ColonOnlySimulation::events() const {
+  if (!state_.solver_ok) return {{"solver_failed", ""}};
   return {};
 }
 

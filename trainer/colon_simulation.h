@@ -30,7 +30,7 @@ class ColonOnlySimulation : public Simulation {
   /// Neutral values where there is no scope: no handle or wall force, the tip at the
   /// anus, the lumen in view, no patches measured (patch_count 0).
   Telemetry telemetry() const override;
-  std::vector<std::string> events() const override;
+  std::vector<SimulationEvent> events() const override;
 
   const ColonModel& model() const { return model_; }
   const ColonState& state() const { return state_; }

@@ -33,7 +33,7 @@ void stepAndRecord(Simulation& sim, const HandleInput& in, long step, Scorer& sc
   const Telemetry t = sim.telemetry();
   scorer.add(t);
   if (writer) {
-    for (const std::string& e : sim.events()) writer->event(done, e);
+    for (const SimulationEvent& e : sim.events()) writer->event(done, e.name, e.detail);
     if (writer->checkpointDue(done)) writer->checkpoint(done, sim.stateHash());
   }
   if (hooks.on_step) hooks.on_step(t);

@@ -113,6 +113,11 @@ Scorer::Scorer(const ScoreOptions& options)
     : o_(options), total_(options), insertion_(options), withdrawal_(options), last_time_s_(options.start_s) {}
 
 void Scorer::add(const Telemetry& t) {
+  if (t.solver_limited > 0) {
+    ++limited_steps_;
+    if (!was_limited_) ++limited_episodes_;
+  }
+  was_limited_ = t.solver_limited > 0;
   if (t.time_s <= o_.start_s) {  // set-up, not scored; still the reference for paths
     prev_ = t;
     have_prev_ = true;
@@ -137,6 +142,8 @@ nlohmann::json Scorer::json() const {
   j["time_to_caecum_s"] = time_to_caecum_s_ ? nlohmann::json(*time_to_caecum_s_) : nlohmann::json(nullptr);
   j["insertion"] = insertion_.json();
   j["withdrawal"] = time_to_caecum_s_ ? withdrawal_.json() : nlohmann::json(nullptr);
+  j["solver_limited_steps"] = limited_steps_;
+  j["solver_limited_episodes"] = limited_episodes_;
   j["thresholds"] = {{"caecum_reach_m", o_.caecum_reach_m},
                      {"excessive_wall_force_N", o_.excessive_wall_force_N},
                      {"episode_min_s", o_.episode_min_s},
@@ -164,7 +171,8 @@ const std::map<std::string, std::string>& Scorer::units() {
       {"loop_time_s", "s"}, {"max_loop_turns", "turns"}, {"mucosa_visualised_pct", "%"},
       {"redout_time_s", "s"}, {"lumen_lost_count", "1"}, {"lumen_visible_pct", "%"},
       {"tip_path_m", "m"}, {"insertion_path_m", "m"}, {"rotation_path_rad", "rad"},
-      {"knob_path_rad", "rad"}, {"tip_path_per_insertion_path", "m/m"}};
+      {"knob_path_rad", "rad"}, {"tip_path_per_insertion_path", "m/m"},
+      {"solver_limited_steps", "1"}, {"solver_limited_episodes", "1"}};
   return u;
 }
 

@@ -98,6 +98,11 @@ class Scorer {
   static const std::map<std::string, std::string>& units();
 
   std::optional<double> time_to_caecum_s() const { return time_to_caecum_s_; }
+  /// Steps in which a solver limit engaged (Telemetry::solver_limited > 0), and runs of
+  /// such steps (episodes), over the whole session including a scripted set-up: what the
+  /// session's solver_limited events report (docs/hardening.md).
+  long solverLimitedSteps() const { return limited_steps_; }
+  long solverLimitedEpisodes() const { return limited_episodes_; }
   const PhaseScore& total() const { return total_; }
   const PhaseScore& insertion() const { return insertion_; }
   const PhaseScore& withdrawal() const { return withdrawal_; }
@@ -107,6 +112,8 @@ class Scorer {
   PhaseScore total_, insertion_, withdrawal_;
   std::optional<double> time_to_caecum_s_;
   double last_time_s_;
+  long limited_steps_ = 0, limited_episodes_ = 0;
+  bool was_limited_ = false;
   bool have_prev_ = false;
   Telemetry prev_;
 };

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "core/handle_input.h"
 #include "trainer/telemetry.h"
@@ -13,6 +15,12 @@
 namespace colosim {
 
 struct Scenario;
+
+/// Something a step raised, recorded as a session event line (docs/file-formats.md).
+struct SimulationEvent {
+  std::string name;    ///< lowercase identifier, for example "solver_limited"
+  std::string detail;  ///< free text ("" for none)
+};
 
 class Simulation {
  public:
@@ -26,7 +34,7 @@ class Simulation {
   /// Measurements of the last step.
   virtual Telemetry telemetry() const = 0;
   /// Events raised by the last step (for example "solver_limited"), recorded in sessions.
-  virtual std::vector<std::string> events() const { return {}; }
+  virtual std::vector<SimulationEvent> events() const { return {}; }
 };
 
 /// Builds a simulation ready to run a scenario (its start state applied: for "settled",

@@ -33,6 +33,10 @@ struct Telemetry {
   /// Wall patches lit and in the onboard view within 5 cm this step (ids in [0, patch_count)).
   std::vector<int> patches_seen;
   int patch_count = 0;            ///< number of wall patches of the colon (0: not measured)
+  /// Quantities the solver limits changed in this step (limitedCount in core/world.h:
+  /// contact forces scaled down, segments and control points slowed, failed solves); 0
+  /// when the solvers kept up (docs/hardening.md).
+  int solver_limited = 0;
 };
 
 /// Net turning of a polyline projected on the plane normal to `normal` [turns]:

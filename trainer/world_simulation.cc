@@ -79,13 +79,45 @@ void WorldSimulation::init(const HandleInput& start) {
 void WorldSimulation::step(const HandleInput& in) {
   stepWorld(model_, state_, in, *query_, dt_s_);
   measure();
+  telemetry_.solver_limited = limitedCount(state_);
+  updateLimitEvents();
 }
 
-std::vector<std::string> WorldSimulation::events() const {
-  std::vector<std::string> e;
-  if (!state_.colon.solver_ok) e.push_back("solver_failed_colon");
-  if (!state_.scope.solver_ok) e.push_back("solver_failed_scope");
-  return e;
+void WorldSimulation::updateLimitEvents() {
+  events_.clear();
+  const WorldState& s = state_;
+  if (!s.colon.solver_ok) events_.push_back({"solver_failed_colon", "the colon solve failed or gave non-finite values: its velocities were set to zero"});
+  if (!s.scope.solver_ok) events_.push_back({"solver_failed_scope", "the scope solve failed or gave non-finite values: its velocities were set to zero"});
+  char buf[512];
+  if (telemetry_.solver_limited == 0) {
+    if (limited_run_steps_ > 0) {
+      std::snprintf(buf, sizeof buf,
+                    "after %ld steps; largest asked: contact force %.4g N, scope %.4g m/s and "
+                    "%.4g rad/s, colon %.4g m/s",
+                    limited_run_steps_, run_force_N_, run_scope_speed_, run_scope_spin_, run_colon_speed_);
+      events_.push_back({"solver_limited_end", buf});
+    }
+    limited_run_steps_ = 0;
+    run_force_N_ = run_scope_speed_ = run_scope_spin_ = run_colon_speed_ = 0;
+    return;
+  }
+  if (limited_run_steps_ == 0) {
+    const ContactLimitReport& c = s.contact_limit;
+    std::snprintf(buf, sizeof buf,
+                  "contact forces limited %d (asked %.4g N, limit %.4g N), dropped non-finite %d; "
+                  "scope segments slowed %d (asked %.4g m/s, %.4g rad/s; limits %.4g m/s, %.4g rad/s); colon points "
+                  "slowed %d (asked %.4g m/s, limit %.4g m/s); failed solves: colon %d, scope %d",
+                  c.limited, c.asked_N, model_.contact.max_point_force_N, c.non_finite, s.scope.limited_segments,
+                  s.scope.asked_speed_m_per_s, s.scope.asked_spin_rad_per_s, model_.scope.params.max_speed_m_per_s,
+                  model_.scope.params.max_spin_rad_per_s, s.colon.limited_points, s.colon.asked_speed_m_per_s,
+                  model_.colon.max_speed_m_per_s, s.colon.solver_ok ? 0 : 1, s.scope.solver_ok ? 0 : 1);
+    events_.push_back({"solver_limited", buf});
+  }
+  ++limited_run_steps_;
+  run_force_N_ = std::max(run_force_N_, s.contact_limit.asked_N);
+  run_scope_speed_ = std::max(run_scope_speed_, s.scope.asked_speed_m_per_s);
+  run_scope_spin_ = std::max(run_scope_spin_, s.scope.asked_spin_rad_per_s);
+  run_colon_speed_ = std::max(run_colon_speed_, s.colon.asked_speed_m_per_s);
 }
 
 std::vector<Vec3> WorldSimulation::scopeCentreline() const {

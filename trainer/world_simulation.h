@@ -30,7 +30,11 @@ class WorldSimulation : public Simulation {
   double time_s() const override { return state_.colon.time_s; }
   uint64_t stateHash() const override { return hashWorldState(state_); }
   Telemetry telemetry() const override { return telemetry_; }
-  std::vector<std::string> events() const override;
+  /// "solver_limited" at the first step of a run of steps in which a solver limit engaged
+  /// (detail: what was limited, asked against the limit), "solver_limited_end" after the
+  /// run's last step (detail: its length and the largest values asked); the old
+  /// "solver_failed_colon"/"solver_failed_scope" at every failed solve. docs/hardening.md.
+  std::vector<SimulationEvent> events() const override { return events_; }
 
   const WorldModel& model() const { return model_; }
   const WorldState& state() const { return state_; }
@@ -53,6 +57,11 @@ class WorldSimulation : public Simulation {
   double dt_s_ = 1e-3;
   Telemetry telemetry_;
   int sigmoid_first_ = -1, sigmoid_last_ = -1;  ///< control points of the sigmoid (rest arclength order)
+  void updateLimitEvents();
+  std::vector<SimulationEvent> events_;  ///< events of the last step
+  // The current run of limited steps: its length and the largest values asked in it.
+  long limited_run_steps_ = 0;
+  double run_force_N_ = 0, run_scope_speed_ = 0, run_scope_spin_ = 0, run_colon_speed_ = 0;
 };
 
 /// A SimulationFactory building WorldSimulation (FCL queries).

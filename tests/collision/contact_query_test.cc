@@ -189,6 +189,51 @@ TEST(ContactForces, ActionEqualsReaction) {
   EXPECT_LT(total.norm(), 1e-12 * scope_total.norm() + 1e-14);
 }
 
+// The contact force limit (docs/hardening.md): a point pushed far into the wall asks for
+// more than max_point_force_N; it gets exactly the limit, in the same direction, with its
+// stiffness and damping scaled alike, and the report counts it. NaN geometry is dropped.
+TEST(ContactForces, ForceAboveTheLimitIsScaledDownAndCounted) {
+  const WorldModel m = adultWorld();
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, 0.2);
+  WallContact c;
+  c.scope_segment = 2;
+  c.point = 0;
+  c.p_W_point = interactionPoint(m.scope, s.scope, 2, 0);
+  c.colon_segment = 5;
+  c.p = 0.5;
+  c.normal_W = Vec3(0, 0, 1);
+  const double limit = m.contact.max_point_force_N;
+  c.depth_m = 3.0 * limit / m.contact.wall_stiffness_N_per_m;  // asks for ~3 x the limit
+  WallContact bad = c;
+  bad.depth_m = std::nan("");
+  std::vector<WallContact> contacts = {c, bad};
+  std::vector<SplineLoad> colon_loads;
+  std::vector<ScopeLoad> scope_loads;
+  ContactLimitReport rep;
+  const double max_force =
+      applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads, &rep);
+  EXPECT_EQ(rep.limited, 1);
+  EXPECT_EQ(rep.non_finite, 1);
+  EXPECT_NEAR(rep.asked_N, 3.0 * limit, 1e-6 * limit);
+  EXPECT_NEAR(max_force, limit, 1e-9 * limit);
+  ASSERT_EQ(scope_loads.size(), 1u);
+  ASSERT_EQ(colon_loads.size(), 1u);
+  EXPECT_NEAR(scope_loads[0].force_N.norm(), limit, 1e-9 * limit);
+  EXPECT_LT(scope_loads[0].force_N.dot(c.normal_W), 0);  // still pushing the point back in
+  EXPECT_NEAR(scope_loads[0].stiffness_N_per_m(2, 2), m.contact.wall_stiffness_N_per_m / 3.0,
+              1e-6 * m.contact.wall_stiffness_N_per_m);
+  EXPECT_TRUE((colon_loads[0].force_N + scope_loads[0].force_N).norm() < 1e-12);
+  // Below the limit nothing changes.
+  contacts = {c};
+  contacts[0].depth_m = 0.5 * limit / m.contact.wall_stiffness_N_per_m;
+  colon_loads.clear();
+  scope_loads.clear();
+  applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads, &rep);
+  EXPECT_EQ(rep.limited, 0);
+  EXPECT_NEAR(scope_loads[0].force_N.norm(), 0.5 * limit, 1e-9 * limit);
+}
+
 TEST(ContactQuery, NeighbourSpheresNeverRepel) {
   const WorldModel m = adultWorld();
   WorldState s = makeWorldState(m);

@@ -183,5 +183,36 @@ TEST(ColonStep, InternalForcesBalanceAndGravityCarriesTheWholeMass) {
   EXPECT_LT(sum.norm(), 1e-12);
 }
 
+// Limits (docs/hardening.md): a NaN load stops the colon for the step (solver_ok false,
+// v = 0, q unchanged, time advances); a control point kicked faster than
+// max_speed_m_per_s is slowed to it and counted.
+TEST(ColonStep, NonFiniteSolveStopsTheColonAndFastPointsAreSlowed) {
+  const ColonModel m = adult();
+  ColonState s = makeColonState(m);
+  for (int k = 0; k < 20; ++k) stepColon(m, s, 1e-3);
+  const Points q = s.q;
+  SplineLoad bad;
+  bad.segment = 10;
+  bad.p = 0.5;
+  bad.force_N = Vec3(0, std::nan(""), 0);
+  s.loads.push_back(bad);
+  const double t0 = s.time_s;
+  stepColon(m, s, 1e-3);
+  s.loads.clear();
+  EXPECT_FALSE(s.solver_ok);
+  EXPECT_EQ(s.v.norm(), 0.0);
+  EXPECT_TRUE(s.q == q);
+  EXPECT_DOUBLE_EQ(s.time_s, t0 + 1e-3);
+  stepColon(m, s, 1e-3);
+  EXPECT_TRUE(s.solver_ok);
+  EXPECT_EQ(s.limited_points, 0);
+
+  s.v.col(40) = Vec3(3 * m.max_speed_m_per_s, 0, 0);
+  stepColon(m, s, 1e-3);
+  EXPECT_GE(s.limited_points, 1);
+  EXPECT_GT(s.asked_speed_m_per_s, m.max_speed_m_per_s);
+  for (int i = 0; i < m.n; ++i) EXPECT_LE(s.v.col(i).norm(), m.max_speed_m_per_s * (1 + 1e-12));
+}
+
 }  // namespace
 }  // namespace colosim

@@ -158,5 +158,43 @@ TEST(Scope, SnapshotRestoresTheExactState) {
   EXPECT_EQ(getScopeState(a), getScopeState(b));
 }
 
+// Limits (docs/hardening.md): a NaN load gives a non-finite solve: the step says so
+// (solver_ok false), stops the inside segments and carries no NaN on; a kick faster than
+// the speed and spin limits is slowed to them and counted. Below them nothing changes.
+TEST(Scope, NonFiniteSolveStopsTheSegmentsAndFastOnesAreSlowed) {
+  const ScopeModel m = freeScope();
+  ScopeState s = insertAndHold(m, 0.3, 0.3, 0.05);
+  HandleInput in = s.input;
+  ScopeLoad bad;
+  bad.segment = 3;
+  bad.force_N = Vec3(std::nan(""), 0, 0);
+  s.loads.push_back(bad);
+  stepScope(m, s, in, kDt);
+  s.loads.clear();
+  EXPECT_FALSE(s.solver_ok);
+  for (int k = 0; k < s.inside; ++k) {
+    ASSERT_TRUE(s.p_W[k].allFinite() && s.R_WS[k].allFinite());
+    ASSERT_EQ(s.v_W[k].norm() + s.w_W[k].norm(), 0.0);
+  }
+  stepScope(m, s, in, kDt);
+  EXPECT_TRUE(s.solver_ok);
+  EXPECT_EQ(s.limited_segments, 0);
+
+  // The whole inside chain kicked sideways and spun about its axis (the stiff joints let
+  // no single segment go alone): only the base joint holds it back.
+  for (int k = 0; k < s.inside; ++k) {
+    s.v_W[k] = Vec3(0, 0, 3 * m.params.max_speed_m_per_s);
+    s.w_W[k] = 3 * m.params.max_spin_rad_per_s * s.R_WS[k].col(2);
+  }
+  stepScope(m, s, in, kDt);
+  EXPECT_GE(s.limited_segments, s.inside / 2);
+  EXPECT_GT(s.asked_speed_m_per_s, m.params.max_speed_m_per_s);
+  EXPECT_GT(s.asked_spin_rad_per_s, m.params.max_spin_rad_per_s);
+  for (int k = 0; k < s.inside; ++k) {
+    EXPECT_LE(s.v_W[k].norm(), m.params.max_speed_m_per_s * (1 + 1e-12));
+    EXPECT_LE(s.w_W[k].norm(), m.params.max_spin_rad_per_s * (1 + 1e-12));
+  }
+}
+
 }  // namespace
 }  // namespace colosim

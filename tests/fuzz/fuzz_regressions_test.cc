@@ -13,6 +13,8 @@
 
 #include "fixture.h"
 #include "readers.h"
+#include "trainer/session.h"
+#include "trainer/strict_json.h"
 
 namespace colosim {
 namespace {
@@ -72,6 +74,36 @@ TEST(FuzzRegressions, EverySeedReads) {
     }
     EXPECT_GT(seeds, 0) << "no seed for the " << r.name << " fuzzer";
   }
+}
+
+// The session fuzzer tries each input cut at one point of its own; here every seed session
+// is cut at every byte: each prefix reads as a prefix of the recording (no more steps, the
+// same inputs) or is refused with InputError, and passes the fuzz harness's checks.
+TEST(FuzzRegressions, SeedSessionsCutAtEveryByte) {
+  int cuts = 0, read = 0;
+  for (const std::string& dir : seedDirs().at("session")) {
+    for (const fs::path& f : filesIn(dir)) {
+      const std::string text = test::readFile(f.string());
+      const Session full = parseSession(text, "seed.jsonl");
+      for (size_t k = 0; k <= text.size(); ++k, ++cuts) {
+        const std::string cut = text.substr(0, k);
+        fuzz::session(cut);  // aborts on a broken invariant
+        try {
+          const Session p = parseSession(cut, "seed.jsonl");
+          ++read;
+          ASSERT_LE(p.steps, full.steps) << f << " cut at " << k;
+          ASSERT_LE(p.inputs.size(), full.inputs.size()) << f << " cut at " << k;
+          for (size_t i = 0; i < p.inputs.size(); ++i) ASSERT_EQ(p.inputs[i].step, full.inputs[i].step);
+          ASSERT_EQ(p.complete, full.complete && k + 1 >= text.size()) << f << " cut at " << k;
+        } catch (const InputError& e) {
+          ASSERT_EQ(std::string(e.what()).rfind("seed.jsonl", 0), 0u) << e.what();
+          ASSERT_LT(k, text.find('\n')) << "refused after the header line: " << e.what();
+        }
+      }
+    }
+  }
+  EXPECT_GT(cuts, 5000);
+  EXPECT_GT(read, cuts / 2);
 }
 
 }  // namespace

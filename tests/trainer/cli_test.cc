@@ -56,4 +56,28 @@ TEST(Cli, UnknownBenchmarkAndBadFlagsExitWithTwo) {
   EXPECT_EQ(run("frobnicate").code, 2);
 }
 
+// The endurance benchmark, short (1.8 s simulated; the hour is run by hand, README):
+// finite, bounded energy, no limiter at its clinical pace, memory figures read, and
+// --hours refused where it does not apply.
+TEST(Cli, BenchEnduranceShortRunStaysBounded) {
+  const Result r = run("bench endurance --json --hours 0.0005");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const size_t brace = r.out.find("\n{");
+  ASSERT_NE(brace, std::string::npos) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out.substr(brace + 1));
+  EXPECT_EQ(j["steps"], 1800);
+  EXPECT_TRUE(j["finite"].get<bool>());
+  EXPECT_EQ(j["solver_limited_steps"], 0);
+  EXPECT_EQ(j["windows"].size(), 4u);
+  // Bounded: the colon and scope hold well under 1 J (gravity from the origin, elastic, kinetic).
+  EXPECT_LT(j["energy_max_J"].get<double>(), 1.0);
+  EXPECT_GT(j["energy_min_J"].get<double>(), -1.0);
+  EXPECT_LT(j["kinetic_max_J"].get<double>(), 0.2);
+  EXPECT_GT(j["rss_kB_end"].get<long>(), 0);
+  EXPECT_GE(j["hwm_kB_end"].get<long>(), j["rss_kB_end"].get<long>());
+  EXPECT_GT(j["steps_per_s"].get<double>(), 0);
+  EXPECT_EQ(run("bench colon --hours 1").code, 2);
+  EXPECT_EQ(run("bench endurance --hours 0").code, 2);
+}
+
 }  // namespace

@@ -29,8 +29,8 @@ class FakeSimulation : public Simulation {
   }
   /// Raises "solver_limited" once, at step 150, as the real simulation does when its
   /// solver cannot keep up.
-  std::vector<std::string> events() const override {
-    if (steps_ == 150) return {"solver_limited"};
+  std::vector<SimulationEvent> events() const override {
+    if (steps_ == 150) return {{"solver_limited", ""}};
     return {};
   }
   double time_s() const override { return time_s_; }

@@ -3,6 +3,7 @@
 #include "trainer/session.h"
 
 #include <cmath>
+#include <map>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
 #include "trainer/strict_json.h"
+#include "trainer/world_simulation.h"
 
 namespace colosim {
 namespace {
@@ -307,6 +309,96 @@ TEST(Session, BadInputsNameFileAndLine) {
 TEST(Session, HashesPrintAsSixteenHexDigits) {
   EXPECT_EQ(hashToHex(0), "0000000000000000");
   EXPECT_EQ(hashToHex(0xfedcba9876543210ull), "fedcba9876543210");
+}
+
+// The same on a real recording of the colon + scope simulation (issue 8): 1.05 s with the
+// knobs slammed twice (solver_limited events), a checkpoint at 1 s and the end line, cut at
+// every byte. Every cut is refused with a message naming the file (only before the header
+// line is complete) or read up to its last complete record; each distinct prefix is
+// replayed on the world simulation and reproduces the checkpoints it holds.
+TEST(Session, RealWorldSessionCutAtEveryByteReplaysItsCompleteRecords) {
+  test::TempDir dir;
+  const double pi = 3.14159265358979323846, lr = 160.0 * pi / 180.0;
+  auto key = [](double t, double knob_ud, double knob_lr) {
+    char b[200];
+    std::snprintf(b, sizeof b,
+                  "{\"t_s\": %.3f, \"insertion_m\": 0.1, \"rotation_rad\": 0.0, \"knob_updown_rad\": %.17g, "
+                  "\"knob_leftright_rad\": %.17g}", t, knob_ud, knob_lr);
+    return std::string(b);
+  };
+  const std::string scenario_path = dir.write("slam.json",
+      "{\"format\": \"colosim-scenario\", \"version\": 1, \"name\": \"slam\", \"description\": \"knob slams\",\n"
+      " \"anatomy\": \"anatomy/adult.json\", \"params\": \"params/default.json\", \"dt_s\": 0.001,\n"
+      " \"duration_s\": 1.05, \"seed\": 1, \"start\": {\"kind\": \"rest\"}, \"script\": [\n  " +
+      key(0, 0, 0) + ",\n  " + key(0.02, 0, 0) + ",\n  " + key(0.021, pi, -lr) + ",\n  " + key(0.5, pi, -lr) +
+      ",\n  " + key(0.501, 0, 0) + "]}\n");
+  const Scenario sc = findScenario(scenario_path);
+  const std::string path = dir.file("slam.jsonl");
+  {
+    WorldSimulation sim(sc);
+    SessionWriter w(path, sessionHeaderFor(sc, "test"));
+    runScenario(sc, sim, &w);
+  }
+  const std::string text = test::readFile(path);
+  const Session full = parseSession(text, path);
+  ASSERT_TRUE(full.complete);
+  ASSERT_EQ(full.steps, 1050);
+  ASSERT_EQ(full.checkpoints.size(), 1u);
+  int limited_events = 0;
+  for (const SessionEvent& e : full.events) limited_events += e.name == "solver_limited";
+  ASSERT_GE(limited_events, 2) << "both slams engage the solver limits";
+
+  // The step each complete line vouches for, by the offset where the line ends.
+  std::vector<std::pair<size_t, long>> line_end_step;  // (offset after '\n', steps so far)
+  {
+    long steps = 0;
+    size_t start = 0;
+    for (size_t nl = text.find('\n'); nl != std::string::npos; start = nl + 1, nl = text.find('\n', start)) {
+      const nlohmann::json j = nlohmann::json::parse(text.substr(start, nl - start));
+      if (j["type"] != "header") steps = std::max(steps, j["step"].get<long>());
+      line_end_step.emplace_back(nl + 1, steps);
+    }
+  }
+  const size_t header_len = text.find('\n');
+  std::map<std::pair<long, size_t>, bool> replayed;  // (steps, checkpoints) -> done
+  int refused = 0, read = 0;
+  for (size_t k = 0; k <= text.size(); ++k) {
+    const std::string cut = text.substr(0, k);
+    Session p;
+    try {
+      p = parseSession(cut, path);
+    } catch (const InputError& e) {
+      ++refused;
+      ASSERT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
+      ASSERT_LT(k, header_len + 1) << "refused after the header line: " << e.what();
+      continue;
+    }
+    ++read;
+    // The last complete record: a line whose newline is in, or the last line missing only its newline.
+    long expected = 0;
+    for (const auto& [end, steps] : line_end_step)
+      if (end <= k || end == k + 1) expected = steps;
+    ASSERT_EQ(p.steps, expected) << "cut at " << k;
+    ASSERT_EQ(p.complete, k + 1 >= text.size()) << "cut at " << k;
+    ASSERT_EQ(p.truncated, !p.complete);
+    if (p.truncated) ASSERT_EQ(p.message.rfind(path, 0), 0u) << p.message;
+    const auto id = std::make_pair(p.steps, p.checkpoints.size());
+    if (replayed.count(id) && !p.complete) continue;
+    replayed[id] = true;
+    ReplayPlan plan;
+    plan.session = p;
+    plan.scenario = sc;
+    WorldSimulation sim(sc);
+    const ReplayResult r = replay(plan, sim);
+    ASSERT_TRUE(r.hashOk()) << "cut at " << k << ": " << r.mismatch;
+    ASSERT_EQ(r.steps, expected);
+    ASSERT_EQ(r.checkpoints_checked, static_cast<int>(p.checkpoints.size()));
+  }
+  EXPECT_EQ(refused, static_cast<int>(header_len));  // a header missing only its newline reads
+  EXPECT_GT(read, 1000);
+  EXPECT_GE(replayed.size(), 6u);
+  std::printf("%zu cuts: %d refused, %d read, %zu distinct prefixes replayed\n", text.size() + 1, refused, read,
+              replayed.size());
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// colosim bench NAME [--json]
+// colosim bench NAME [--json] [--hours H]
 #include <iostream>
 
 #include "bench/registry.h"
@@ -13,13 +13,22 @@ void addBenchCommand(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("bench", "Run a benchmark and print its figures. Benchmarks:" + names);
   auto name = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
+  auto hours = std::make_shared<double>(-1.0);
   cmd->add_option("NAME", *name, "benchmark to run")->required();
   cmd->add_flag("--json", *json, "print one JSON object on stdout instead of text");
-  cmd->callback([&action, name, json] {
-    action = [name, json]() -> int {
+  cmd->add_option("--hours", *hours, "simulated hours, 1e-5 .. 100 (endurance only; default 1)");
+  cmd->callback([&action, name, json, hours] {
+    action = [name, json, hours]() -> int {
       for (const BenchEntry& b : benchmarks()) {
         if (b.name != *name) continue;
-        const BenchOutput out = b.run();
+        BenchOptions options;
+        if (*hours != -1.0) {
+          if (!b.takes_hours) throw InputError("--hours: only the endurance benchmark takes it, not '" + *name + "'");
+          if (!(*hours >= 1e-5 && *hours <= 100))
+            throw InputError("--hours: " + std::to_string(*hours) + " is out of range [1e-05, 100]");
+          options.hours = *hours;
+        }
+        const BenchOutput out = b.run(options);
         if (*json) std::cout << out.json.dump() << "\n";
         else std::cout << out.text;
         return 0;

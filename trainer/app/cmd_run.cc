@@ -112,6 +112,13 @@ int runScripted(const RunOptions& o) {
   }
   const RunResult r = runScenario(scenario, sim, writer.get(), hooks, steps);
   bar.finish();
+  // The solvers could not keep up somewhere: say so (the session has the events).
+  if (r.scores.value("solver_limited_steps", 0L) > 0)
+    std::fprintf(stderr, "colosim run %s: solver limits engaged in %ld steps (%ld episodes): forces or speeds beyond "
+                 "what one step is trusted with were limited (docs/hardening.md)%s\n",
+                 scenario.name.c_str(), r.scores["solver_limited_steps"].get<long>(),
+                 r.scores["solver_limited_episodes"].get<long>(),
+                 o.record.empty() ? "" : "; the session records each as a solver_limited event");
   if (o.json) {
     std::cout << (o.score ? r.scores.dump() : nlohmann::json{{"scenario", scenario.name}, {"steps", r.steps},
                                                              {"final_state_hash", hashToHex(r.final_state_hash)}}

@@ -1,0 +1,182 @@
+// Extreme inputs (issue 8, docs/hardening.md): scripts that slam the handle controls
+// (assets/scenarios/extreme/) run on the colon + scope + contacts simulation. Every step
+// the whole state must be finite and the energy and speeds bounded by what the hand can
+// put in; when a solver limit engages, the session records it and the run goes on.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "core/colon_step.h"
+#include "core/scope_step.h"
+#include "fixture.h"
+#include "trainer/replay.h"
+#include "trainer/scenario.h"
+#include "trainer/score.h"
+#include "trainer/session.h"
+#include "trainer/world_simulation.h"
+
+namespace colosim {
+namespace {
+
+// Bounds on the state, each from what the hand can put in (docs/hardening.md):
+// the handle moves at most ~1 m/s and 10 turns/s here, the scope weighs 0.32 kg, the
+// colon ~0.8 kg. A scope moving bodily at 1 m/s holds 0.16 J; the bounds leave a factor
+// of ~30 for whipping and elastic energy, and an exploding state passes them in a few steps.
+constexpr double kMaxKinetic_J = 5.0;           // colon + scope kinetic energy [J]
+constexpr double kMaxSpeed_m_per_s = 20.0;      // any colon control point or scope segment [m/s]
+constexpr double kMaxSpin_rad_per_s = 500.0;    // any scope segment's angular speed [rad/s] (handle: 62.8)
+constexpr double kMaxReach_m = 1.0;             // any body point from the anus [m] (the abdomen is ~0.4 m across)
+
+struct Extremes {
+  double kinetic_J = 0, colon_speed = 0, scope_speed = 0, scope_spin = 0, reach_m = 0;
+  double wall_force_N = 0, handle_force_N = 0;
+  long first_bad_step = -1;  ///< first step with a non-finite or out-of-bound state
+  std::string what;
+};
+
+bool finite3(const Vec3& v) { return std::isfinite(v(0)) && std::isfinite(v(1)) && std::isfinite(v(2)); }
+
+// Checks the state after `step` steps and updates the extremes.
+void check(const WorldSimulation& sim, long step, Extremes& x) {
+  const WorldModel& m = sim.model();
+  const WorldState& s = sim.state();
+  const Vec3 anus = m.scope.p_W_anus;
+  bool ok = s.colon.q.allFinite() && s.colon.v.allFinite();
+  double colon_speed = 0, scope_speed = 0, spin = 0, reach = 0;
+  for (int i = 0; i < m.colon.n; ++i) {
+    colon_speed = std::max(colon_speed, s.colon.v.col(i).norm());
+    reach = std::max(reach, (s.colon.q.col(i) - anus).norm());
+  }
+  for (int k = 0; k < s.scope.inside; ++k) {
+    ok = ok && finite3(s.scope.p_W[k]) && finite3(s.scope.v_W[k]) && finite3(s.scope.w_W[k]) &&
+         s.scope.R_WS[k].allFinite();
+    scope_speed = std::max(scope_speed, s.scope.v_W[k].norm());
+    spin = std::max(spin, s.scope.w_W[k].norm());
+    reach = std::max(reach, (s.scope.p_W[k] - anus).norm());
+  }
+  const double kinetic = colonEnergy(m.colon, s.colon).kinetic_J + scopeKineticEnergy(m.scope, s.scope);
+  ok = ok && std::isfinite(kinetic) && std::isfinite(s.scope.handle.force_N) && std::isfinite(s.scope.handle.torque_Nm);
+  x.kinetic_J = std::max(x.kinetic_J, kinetic);
+  x.colon_speed = std::max(x.colon_speed, colon_speed);
+  x.scope_speed = std::max(x.scope_speed, scope_speed);
+  x.scope_spin = std::max(x.scope_spin, spin);
+  x.reach_m = std::max(x.reach_m, reach);
+  x.wall_force_N = std::max(x.wall_force_N, s.max_wall_force_N);
+  x.handle_force_N = std::max(x.handle_force_N, std::abs(s.scope.handle.force_N));
+  if (x.first_bad_step >= 0) return;
+  char buf[256];
+  if (!ok) {
+    x.first_bad_step = step;
+    x.what = "non-finite state";
+  } else if (kinetic > kMaxKinetic_J || colon_speed > kMaxSpeed_m_per_s || scope_speed > kMaxSpeed_m_per_s ||
+             spin > kMaxSpin_rad_per_s || reach > kMaxReach_m) {
+    x.first_bad_step = step;
+    std::snprintf(buf, sizeof buf, "kinetic %.3g J, colon %.3g m/s, scope %.3g m/s, spin %.3g rad/s, reach %.3g m",
+                  kinetic, colon_speed, scope_speed, spin, reach);
+    x.what = buf;
+  }
+}
+
+struct ExtremeRun {
+  Extremes x;
+  uint64_t hash = 0;
+  long steps = 0;
+  nlohmann::json scores;
+  double wall_s = 0;
+};
+
+// Runs the scenario's script through the same stepAndRecord as colosim run, checking
+// every step; records the session to `session_path` when given.
+ExtremeRun runExtreme(const std::string& name, const std::string& session_path = "") {
+  const Scenario sc = findScenario(test::asset("scenarios/extreme/" + name + ".json"));
+  WorldSimulation sim(sc);
+  std::unique_ptr<SessionWriter> writer;
+  if (!session_path.empty()) writer = std::make_unique<SessionWriter>(session_path, sessionHeaderFor(sc, "test"));
+  Scorer scorer(sc.scoring);
+  ExtremeRun r;
+  const auto t0 = std::chrono::steady_clock::now();
+  check(sim, 0, r.x);
+  for (long k = 0; k < sc.steps(); ++k) {
+    stepAndRecord(sim, scriptedInput(sc.script, k * sc.dt_s), k, scorer, writer.get());
+    check(sim, k + 1, r.x);
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.steps = sc.steps();
+  r.hash = sim.stateHash();
+  r.scores = scorer.json();
+  if (writer) writer->end(r.steps, r.hash, nlohmann::json{{"scores", r.scores}});
+  std::printf("%s: %ld steps in %.2f s; kinetic max %.4g J, colon %.3g m/s, scope %.3g m/s, spin %.3g rad/s, "
+              "reach %.3g m, wall force max %.3g N, handle force max %.3g N\n",
+              name.c_str(), r.steps, r.wall_s, r.x.kinetic_J, r.x.colon_speed, r.x.scope_speed, r.x.scope_spin,
+              r.x.reach_m, r.x.wall_force_N, r.x.handle_force_N);
+  return r;
+}
+
+void expectSurvived(const ExtremeRun& r) {
+  EXPECT_EQ(r.x.first_bad_step, -1) << "at step " << r.x.first_bad_step << ": " << r.x.what;
+  EXPECT_TRUE(std::isfinite(r.scores["peak_handle_force_N"].get<double>()));
+}
+
+TEST(ExtremeInputs, PushAtOneMetrePerSecondIntoTheCaecum) { expectSurvived(runExtreme("extreme_push")); }
+TEST(ExtremeInputs, SpinTenTurnsPerSecond) { expectSurvived(runExtreme("extreme_spin")); }
+TEST(ExtremeInputs, KnobsSwungAndSlammedEndToEnd) { expectSurvived(runExtreme("extreme_knobs")); }
+TEST(ExtremeInputs, EverythingAtOnce) { expectSurvived(runExtreme("extreme_all")); }
+
+// The knob slams ask the tip for more spin than the solve is trusted with (0.25 rad per
+// step): the limiter engages, the session says so in event lines, the scores count it,
+// the state stays finite, and the recording replays bit-identically.
+TEST(ExtremeInputs, LimiterEngagesIsRecordedAndReplays) {
+  test::TempDir dir;
+  const std::string path = dir.file("knobs.jsonl");
+  const ExtremeRun r = runExtreme("extreme_knobs", path);
+  expectSurvived(r);
+  const long limited_steps = r.scores["solver_limited_steps"].get<long>();
+  const long episodes = r.scores["solver_limited_episodes"].get<long>();
+  EXPECT_GT(limited_steps, 0);
+  EXPECT_GT(episodes, 0);
+  EXPECT_LE(episodes, limited_steps);
+
+  const ReplayPlan plan = planReplay(path);
+  int starts = 0, ends = 0;
+  for (const SessionEvent& e : plan.session.events) {
+    if (e.name == "solver_limited") {
+      ++starts;
+      EXPECT_NE(e.detail.find("limit 20 N"), std::string::npos) << e.detail;
+      EXPECT_NE(e.detail.find("250 rad/s"), std::string::npos) << e.detail;
+    } else if (e.name == "solver_limited_end") {
+      ++ends;
+      EXPECT_NE(e.detail.find("after "), std::string::npos) << e.detail;
+    } else {
+      ADD_FAILURE() << "unexpected event " << e.name << ": " << e.detail;
+    }
+  }
+  EXPECT_EQ(starts, episodes) << "one solver_limited event per run of limited steps";
+  EXPECT_GE(ends, starts - 1);
+  EXPECT_LE(ends, starts);
+  WorldSimulation again(plan.scenario);
+  const ReplayResult rr = replay(plan, again);
+  EXPECT_TRUE(rr.hashOk()) << rr.mismatch;
+  EXPECT_TRUE(rr.final_hash_checked);
+  EXPECT_EQ(rr.final_state_hash, r.hash);
+  EXPECT_EQ(rr.scores["solver_limited_steps"], limited_steps);
+}
+
+// The scripts the trainer ships never reach a limit (checked here on the first 6 s of
+// sigmoid_push, which forms the alpha loop at the scripted clinical pace).
+TEST(ExtremeInputs, ClinicalPaceNeverEngagesTheLimiter) {
+  Scenario sc = findScenario("sigmoid_push");
+  WorldSimulation sim(sc);
+  long limited = 0;
+  for (long k = 0; k < 6000; ++k) {
+    sim.step(scriptedInput(sc.script, k * sc.dt_s));
+    limited += sim.telemetry().solver_limited;
+  }
+  EXPECT_EQ(limited, 0);
+}
+
+}  // namespace
+}  // namespace colosim
