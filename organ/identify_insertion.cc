@@ -22,6 +22,8 @@ std::vector<double> grid(const std::string& e) {
   if (e == "mesentery_stiffening") return {300, 1000, 3000, 10000};
   if (e == "strain_stiffening") return {1.0, 2.5, 5.0, 10.0};
   if (e == "stress_relaxation") return {0.1, 0.25, 0.45, 0.7};
+  if (e == "cyclic_softening") return {0.05, 0.12, 0.25, 0.5};
+  if (e == "permanent_set") return {0.05, 0.12, 0.25, 0.5};
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 double upperBound(const std::string& e) {
@@ -29,7 +31,8 @@ double upperBound(const std::string& e) {
   if (e == "colon_bending") return 1.0;
   if (e == "mesentery_stiffening") return 1e5;
   if (e == "strain_stiffening") return 20.0;
-  return 0.95;  // relax_g1 < 1
+  if (e == "permanent_set") return 0.9;
+  return 0.95;  // relax_g1, soften_d_inf < 1
 }
 
 // Runs the replays of several extension sets on `threads` threads (each replay is
