@@ -22,6 +22,8 @@ std::vector<double> grid(const std::string& e) {
   if (e == "mesentery_stiffening") return {300, 1000, 3000, 10000};
   if (e == "strain_stiffening") return {1.0, 2.5, 5.0, 10.0};
   if (e == "stress_relaxation") return {0.1, 0.25, 0.45, 0.7};
+  if (e == "cyclic_softening") return {0.05, 0.12, 0.25, 0.5};
+  if (e == "permanent_set") return {0.05, 0.12, 0.25, 0.5};
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 double upperBound(const std::string& e) {
@@ -29,7 +31,8 @@ double upperBound(const std::string& e) {
   if (e == "colon_bending") return 1.0;
   if (e == "mesentery_stiffening") return 1e5;
   if (e == "strain_stiffening") return 20.0;
-  return 0.95;  // relax_g1 < 1
+  if (e == "permanent_set") return 0.9;
+  return 0.95;  // relax_g1, soften_d_inf < 1
 }
 
 // Runs the replays of several extension sets on `threads` threads (each replay is
@@ -146,11 +149,7 @@ OrganDiagnostics diagnose(const InsertionRecording& rec, const OrganFit& fit) {
     d.profiles.push_back(p);
   };
   // Push against pull: the sign of the insertion speed (+-2 mm/s) by central differences.
-  profile("motion", {"push", "hold", "pull"}, [&](size_t k) {
-    const size_t a = k ? k - 1 : k, b = k + 1 < n ? k + 1 : k;
-    const double v = (rec.input[b].insertion_m - rec.input[a].insertion_m) / (rec.time_s[b] - rec.time_s[a]);
-    return v > 0.002 ? 0 : (v < -0.002 ? 2 : 1);
-  });
+  profile("motion", {"push", "hold", "pull"}, [&](size_t k) { return insertionMotion(rec, k); });
   profile("loop", {"no_loop", "in_loop"}, [&](size_t k) { return fit.prediction.loop_turns[k] > 0.3 ? 1 : 0; });
   double lo = 1e9, hi = -1e9;
   for (const HandleInput& in : rec.input) lo = std::min(lo, in.insertion_m), hi = std::max(hi, in.insertion_m);
@@ -168,7 +167,58 @@ OrganDiagnostics diagnose(const InsertionRecording& rec, const OrganFit& fit) {
   return d;
 }
 
+// Geometric midpoints between the best evaluated magnitude (full-fit SSE, > 0) and its
+// neighbours among the evaluated ones (beyond the largest: x 1.3, up to `upper`).
+std::vector<double> bracketMidpoints(const InsertionRecording& rec, const Evaluated& ev, double upper) {
+  const std::vector<char> all(rec.rows(), 1);
+  std::vector<std::pair<double, double>> pts;  // (value, SSE)
+  for (size_t i = 0; i < ev.value.size(); ++i)
+    if (ev.pred[i].ok) pts.push_back({ev.value[i], score(rec.force_N, ev.pred[i].force_N, all).sse});
+  std::sort(pts.begin(), pts.end());
+  size_t b = 0;
+  for (size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].second < pts[b].second) b = i;
+  const double v = pts[b].first;
+  if (!(v > 0)) return {};
+  std::vector<double> out;
+  if (b > 0) out.push_back(pts[b - 1].first > 0 ? std::sqrt(pts[b - 1].first * v) : v / 1.3);
+  out.push_back(b + 1 < pts.size() ? std::sqrt(pts[b + 1].first * v) : std::min(upper, v * 1.3));
+  return out;
+}
+
+// The magnitude at the vertex of the parabola through the full-fit SSE at the best
+// evaluated value and its two neighbours (in log magnitude, all three > 0); 0 when the best
+// is at the edge, the parabola is not convex or the vertex is the best value already.
+double parabolaVertex(const InsertionRecording& rec, const Evaluated& ev) {
+  const std::vector<char> all(rec.rows(), 1);
+  std::vector<std::pair<double, double>> pts;  // (log value, SSE)
+  for (size_t i = 0; i < ev.value.size(); ++i)
+    if (ev.value[i] > 0 && ev.pred[i].ok)
+      pts.push_back({std::log(ev.value[i]), score(rec.force_N, ev.pred[i].force_N, all).sse});
+  std::sort(pts.begin(), pts.end());
+  size_t b = 0;
+  for (size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].second < pts[b].second) b = i;
+  if (b == 0 || b + 1 >= pts.size()) return 0;
+  const double x0 = pts[b - 1].first, x1 = pts[b].first, x2 = pts[b + 1].first;
+  const double y0 = pts[b - 1].second, y1 = pts[b].second, y2 = pts[b + 1].second;
+  const double den = (x1 - x0) * (y1 - y2) - (x1 - x2) * (y1 - y0);
+  if (!(den < 0)) return 0;  // the vertex is a minimum only for this sign (y1 below both)
+  const double num = (x1 - x0) * (x1 - x0) * (y1 - y2) - (x1 - x2) * (x1 - x2) * (y1 - y0);
+  const double x = std::clamp(x1 - 0.5 * num / den, x0, x2);
+  if (std::abs(x - x1) < 1e-3) return 0;
+  return std::exp(x);
+}
+
 }  // namespace
+
+int insertionMotion(const InsertionRecording& rec, size_t k) {
+  const size_t n = rec.rows();
+  const size_t a = k ? k - 1 : k, b = k + 1 < n ? k + 1 : k;
+  if (b == a) return 1;
+  const double v = (rec.input[b].insertion_m - rec.input[a].insertion_m) / (rec.time_s[b] - rec.time_s[a]);
+  return v > 0.002 ? 0 : (v < -0.002 ? 2 : 1);
+}
 
 OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const ReplaySetup& full_setup,
                                       const OrganIdentifyOptions& o) {
@@ -180,6 +230,7 @@ OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const Repla
     setup.params.scope.segment_length_m = o.search_spacing_m;
   }
   r.search_spacing_m = setup.params.colon.control_point_spacing_m;
+  r.threads = std::max(1, o.threads);
   const size_t n = rec.rows();
   const int N = static_cast<int>(n);
   // Folds: contiguous thirds of the recording in time.
@@ -213,26 +264,32 @@ OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const Repla
     return f;
   };
 
-  // The paper's model.
+  // The paper's model (its replay runs in the first batch of round 1, beside the grid).
   OrganParams current;
   std::vector<std::string> chosen;
-  Prediction base_pred = replayAll(setup, rec, {current}, 1)[0];
-  ++r.simulations;
-  Evaluated base_ev{{0.0}, {base_pred}};
-  CvResult base_cv = crossValidate(rec, base_ev, fold, o.folds);
-  r.baseline = makeFit({}, current, base_pred, base_cv.heldout_sse);
-  OrganFit model = r.baseline;
+  OrganFit model;
 
   for (int round = 1; round <= o.max_effects; ++round) {
+    if (round > 1) {
+      // Explained to the noise: a candidate pays only if it cuts the held-out RMSE by
+      // min_heldout_ratio, i.e. below min_heldout_ratio x its present value; when that is
+      // already under the white-noise level, no model can, and the round's replays are saved.
+      const double noise = diagnose(rec, model).noise_sd_N;
+      if (model.heldout_rmse_N < o.min_heldout_ratio * noise) {
+        r.skipped_round = round;
+        r.skipped_noise_sd_N = noise;
+        break;
+      }
+    }
     std::vector<std::string> cands;
     for (const std::string& e : organEffectNames())
       if (std::find(chosen.begin(), chosen.end(), e) == chosen.end()) cands.push_back(e);
     // Every candidate's evaluated set starts with the current model (magnitude 0).
     std::vector<Evaluated> ev(cands.size());
-    for (size_t c = 0; c < cands.size(); ++c) ev[c] = {{0.0}, {model.prediction}};
-    auto run = [&](const std::vector<std::vector<double>>& values) {
+    auto run = [&](const std::vector<std::vector<double>>& values, bool with_current) {
       std::vector<OrganParams> jobs;
       std::vector<std::pair<size_t, double>> who;
+      if (with_current) jobs.push_back(current);
       for (size_t c = 0; c < cands.size(); ++c)
         for (double v : values[c]) {
           OrganParams p = current;
@@ -242,14 +299,23 @@ OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const Repla
         }
       const std::vector<Prediction> preds = replayAll(setup, rec, jobs, o.threads);
       r.simulations += static_cast<int>(jobs.size());
-      for (size_t j = 0; j < jobs.size(); ++j) {
-        ev[who[j].first].value.push_back(who[j].second);
-        ev[who[j].first].pred.push_back(preds[j]);
+      const size_t first = with_current ? 1 : 0;
+      if (with_current) {
+        const Evaluated base_ev{{0.0}, {preds[0]}};
+        r.baseline = makeFit({}, current, preds[0], crossValidate(rec, base_ev, fold, o.folds).heldout_sse);
+        model = r.baseline;
+        for (size_t c = 0; c < cands.size(); ++c) ev[c] = {{0.0}, {model.prediction}};
+      }
+      for (size_t j = first; j < jobs.size(); ++j) {
+        ev[who[j - first].first].value.push_back(who[j - first].second);
+        ev[who[j - first].first].pred.push_back(preds[j]);
       }
     };
+    if (round > 1)
+      for (size_t c = 0; c < cands.size(); ++c) ev[c] = {{0.0}, {model.prediction}};
     std::vector<std::vector<double>> values(cands.size());
     for (size_t c = 0; c < cands.size(); ++c) values[c] = grid(cands[c]);
-    run(values);
+    run(values, round == 1);
     // Two refinements: geometric midpoints between the best value and its neighbours.
     for (int stage = 0; stage < 2; ++stage) {
       for (size_t c = 0; c < cands.size(); ++c) {
@@ -267,7 +333,35 @@ OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const Repla
                                                     : std::min(upperBound(cands[c]), best * 1.7));
         }
       }
-      run(values);
+      run(values, false);
+    }
+    // Focus: the leading candidate that would pay (and any within 20 % of its held-out ratio)
+    // gets two more bracket-halving stages and then one replay at the vertex of the parabola
+    // through its SSE around the best value (in log magnitude). The grid leaves a magnitude
+    // within a factor ~1.3, which on a long recording is still structure far above the noise.
+    {
+      std::vector<std::pair<double, size_t>> paying;
+      for (size_t c = 0; c < cands.size(); ++c) {
+        const CvResult cv = crossValidate(rec, ev[c], fold, o.folds);
+        const double ratio = model.heldout_rmse_N / std::max(std::sqrt(cv.heldout_sse / N), 1e-300);
+        if (ratio >= o.min_heldout_ratio && ev[c].value[cv.best] > 0) paying.push_back({ratio, c});
+      }
+      std::sort(paying.rbegin(), paying.rend());
+      std::vector<size_t> focus;
+      for (const auto& pc : paying)
+        if (pc.first >= paying.front().first / 1.2) focus.push_back(pc.second);
+      for (int stage = 0; stage < 3 && !focus.empty(); ++stage) {
+        std::vector<std::vector<double>> more(cands.size());
+        for (size_t c : focus) {
+          if (stage < 2) {
+            more[c] = bracketMidpoints(rec, ev[c], upperBound(cands[c]));
+          } else {
+            const double v = parabolaVertex(rec, ev[c]);
+            if (v > 0) more[c].push_back(v);
+          }
+        }
+        run(more, false);
+      }
     }
     // Score each candidate.
     int pick = -1;
@@ -340,6 +434,13 @@ OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const Repla
                   r.unexplained ? " Structure remains (unexplained)." : "");
     d << buf;
   }
+  if (r.skipped_round > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "Round %d not run: the held-out RMSE %.3f N is within %.0f %% of the white-noise level %.3f N, so "
+                  "no further effect could pay.\n",
+                  r.skipped_round, r.extended.heldout_rmse_N, (o.min_heldout_ratio - 1) * 100, r.skipped_noise_sd_N);
+    d << buf;
+  }
   std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
                 r.search_spacing_m, r.seconds);
   d << buf;
@@ -409,7 +510,12 @@ nlohmann::json organIdentifyJson(const InsertionRecording& rec, const OrganIdent
                    {"candidates", cands},
                    {"baseline_residuals", diagJson(r.baseline_diagnostics)},
                    {"extended_residuals", diagJson(r.extended_diagnostics)}};
-  j["timing"] = {{"seconds", r.seconds}, {"simulations", r.simulations}, {"search_spacing_m", r.search_spacing_m}};
+  if (r.skipped_round > 0)
+    j["evidence"]["round_not_run"] = {{"round", r.skipped_round}, {"heldout_rmse_N", r.extended.heldout_rmse_N},
+                                      {"noise_sd_N", r.skipped_noise_sd_N},
+                                      {"reason", "held-out RMSE within min_heldout_rmse_ratio of the white-noise level"}};
+  j["timing"] = {{"seconds", r.seconds}, {"simulations", r.simulations}, {"search_spacing_m", r.search_spacing_m},
+                 {"threads", r.threads}};
   j["diagnosis"] = r.diagnosis;
   return j;
 }

@@ -66,10 +66,17 @@ struct OrganIdentifyResult {
   std::vector<OrganEvidence> evidence;
   OrganDiagnostics baseline_diagnostics, extended_diagnostics;
   int simulations = 0;
+  int skipped_round = 0;              ///< round not run because the model is explained to the noise (0: none)
+  double skipped_noise_sd_N = 0;      ///< the white-noise level that decided it [N]
   double seconds = 0;                 ///< wall-clock time of the identification [s]
   double search_spacing_m = 0;
+  int threads = 1;                    ///< replays run at once
   std::string diagnosis;
 };
+
+/// Motion at row k by the recorded insertion speed (central difference): 0 push (> +2 mm/s),
+/// 1 hold, 2 pull (< -2 mm/s).
+int insertionMotion(const InsertionRecording& rec, size_t k);
 
 OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const ReplaySetup& setup,
                                       const OrganIdentifyOptions& options = {});

@@ -11,7 +11,8 @@ namespace colosim {
 
 const std::vector<std::string>& organEffectNames() {
   static const std::vector<std::string> names = {"wall_friction", "colon_bending", "mesentery_stiffening",
-                                                 "strain_stiffening", "stress_relaxation"};
+                                                 "strain_stiffening", "stress_relaxation", "cyclic_softening",
+                                                 "permanent_set"};
   return names;
 }
 
@@ -21,6 +22,8 @@ double organEffectValue(const OrganParams& p, const std::string& e) {
   if (e == "mesentery_stiffening") return p.stiffening_per_m2;
   if (e == "strain_stiffening") return p.fung_b;
   if (e == "stress_relaxation") return p.relax_g1;
+  if (e == "cyclic_softening") return p.soften_d_inf;
+  if (e == "permanent_set") return p.set_ratio;
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 
@@ -30,6 +33,8 @@ void setOrganEffect(OrganParams& p, const std::string& e, double v) {
   else if (e == "mesentery_stiffening") p.stiffening_per_m2 = v;
   else if (e == "strain_stiffening") p.fung_b = v;
   else if (e == "stress_relaxation") p.relax_g1 = v;
+  else if (e == "cyclic_softening") p.soften_d_inf = v;
+  else if (e == "permanent_set") p.set_ratio = v;
   else throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 
@@ -39,6 +44,8 @@ std::pair<std::string, std::string> organEffectParameter(const std::string& e) {
   if (e == "mesentery_stiffening") return {"mesentery_stiffening_per_m2", "1/m^2"};
   if (e == "strain_stiffening") return {"fung_b", "1"};
   if (e == "stress_relaxation") return {"relax_g1", "1"};
+  if (e == "cyclic_softening") return {"soften_d_inf", "1"};
+  if (e == "permanent_set") return {"set_ratio", "1"};
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 
@@ -56,7 +63,7 @@ ReplaySetup makeReplaySetup(const Scenario& scenario, double spacing_m) {
 }
 
 std::shared_ptr<const TensionLaw> organTensionLaw(const Parameters& params, const OrganParams& p) {
-  if (!(p.fung_b > 0) && !(p.relax_g1 > 0)) return nullptr;
+  if (!(p.fung_b > 0) && !(p.relax_g1 > 0) && !(p.soften_d_inf > 0) && !(p.set_ratio > 0)) return nullptr;
   ExtendedLawParams lp;
   lp.ea_N = params.colon.tension_EA_N;
   lp.ec_Ns = params.colon.tension_EC_Ns;
@@ -68,6 +75,15 @@ std::shared_ptr<const TensionLaw> organTensionLaw(const Parameters& params, cons
     lp.enable("stress_relaxation");
     lp.relax_g1 = p.relax_g1;
     lp.relax_tau1_s = kRelaxTau_s;
+  }
+  if (p.soften_d_inf > 0) {
+    lp.enable("cyclic_softening");
+    lp.soften_d_inf = p.soften_d_inf;
+    lp.soften_a_c = kSoftenAc;
+  }
+  if (p.set_ratio > 0) {
+    lp.enable("permanent_set");
+    lp.set_ratio = p.set_ratio;
   }
   return std::make_shared<ExtendedTensionLaw>(lp);
 }

@@ -20,14 +20,21 @@ struct OrganParams {
   double stiffening_per_m2 = 0;    ///< mesentery_stiffening: beta [1/m^2]
   double fung_b = 0;               ///< strain_stiffening: Fung b [-]
   double relax_g1 = 0;             ///< stress_relaxation: g1 [-] (tau1 = kRelaxTau_s)
+  double soften_d_inf = 0;         ///< cyclic_softening: d_inf [-] (a_c = kSoftenAc)
+  double set_ratio = 0;            ///< permanent_set: r [-]
 };
 /// Relaxation time of the organ-level stress_relaxation candidate [s] (fixed: an insertion
 /// of seconds cannot separate g1 from tau1).
 constexpr double kRelaxTau_s = 2.0;
+/// Characteristic accumulated loading strain of the organ-level cyclic_softening candidate
+/// [-] (fixed, as tau1: one recording cannot separate d_inf from a_c; the value is of the
+/// order of the loading strain the colon's elements accumulate in seconds of insertion,
+/// docs/organ-identification.md).
+constexpr double kSoftenAc = 0.1;
 
 /// The candidate effects, in output order.
 const std::vector<std::string>& organEffectNames();
-/// The magnitude of an effect in `p` (friction, EI, beta, b or g1) and its setter.
+/// The magnitude of an effect in `p` (friction, EI, beta, b, g1, d_inf or r) and its setter.
 double organEffectValue(const OrganParams& p, const std::string& effect);
 void setOrganEffect(OrganParams& p, const std::string& effect, double value);
 /// Parameter name and unit of each effect's magnitude (e.g. "friction_coefficient", "1").

@@ -12,6 +12,8 @@ std::pair<double, double> syntheticRange(const std::string& e) {
   if (e == "mesentery_stiffening") return {2000, 10000};
   if (e == "strain_stiffening") return {3.0, 8.0};
   if (e == "stress_relaxation") return {0.3, 0.6};
+  if (e == "cyclic_softening") return {0.2, 0.5};
+  if (e == "permanent_set") return {0.1, 0.3};
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 

@@ -1,6 +1,9 @@
 // Identification at the organ level on short synthetic recordings (4 s, coarse model):
 // an effect hidden with a random magnitude and protocol (seeded) must be named with a
 // held-out gain; a recording with no effect must give the empty answer.
+// cyclic_softening has no case: on 4 s of this protocol (10 cm of insertion) the colon's
+// elements barely stretch and a hidden d_inf of 0.34 left the paper's model at 1.1 times the
+// noise (seed 105: nothing named), so a case would test the noise, not the search.
 #include "organ/identify_insertion.h"
 
 #include <thread>
@@ -39,7 +42,7 @@ TEST_P(HiddenOrganEffect, IsNamedWithAHeldOutGainOrTheAnswerIsEmpty) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Organ, HiddenOrganEffect,
-                         ::testing::Values(Case{-1, 101}, Case{0, 102}, Case{1, 103}, Case{2, 104}),
+                         ::testing::Values(Case{-1, 101}, Case{0, 102}, Case{1, 103}, Case{2, 104}, Case{6, 106}),
                          [](const ::testing::TestParamInfo<Case>& i) {
                            return i.param.effect_index < 0 ? std::string("none")
                                                            : organEffectNames()[i.param.effect_index];

@@ -8,6 +8,7 @@
 #include "core/identify/identify.h"
 #include "core/identify/report.h"
 #include "organ/identify_insertion.h"
+#include "organ/report.h"
 #include "trainer/app/commands.h"
 #include "trainer/tension_law_file.h"
 
@@ -33,11 +34,7 @@ int runIdentifyInsertion(const IdentifyOptionsCli& o) {
   const nlohmann::json j = organIdentifyJson(rec, r);
   if (!o.law_out.empty())
     writeOrganParameters(o.law_out, scenario.params_path, r.extended, "colosim identify " + o.data);
-  if (!o.report.empty()) {
-    std::filesystem::create_directories(o.report);
-    std::ofstream(o.report + "/diagnosis.txt") << r.diagnosis;
-    std::ofstream(o.report + "/identify.json") << j.dump(2) << "\n";
-  }
+  if (!o.report.empty()) writeOrganReport(o.report, rec, r);
   if (o.json) {
     std::cout << j.dump() << "\n";
   } else {
