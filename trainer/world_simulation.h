@@ -53,6 +53,8 @@ class WorldSimulation : public Simulation {
   double dt_s_ = 1e-3;
   Telemetry telemetry_;
   int sigmoid_first_ = -1, sigmoid_last_ = -1;  ///< control points of the sigmoid (rest arclength order)
+  int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
+  std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
 };
 
 /// A SimulationFactory building WorldSimulation (FCL queries).
