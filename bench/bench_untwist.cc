@@ -1,9 +1,7 @@
 // colosim bench untwist: sigmoid_untwist headless without frames, the real-time factor
 // at dt = 1 ms (simulated seconds per wall second), and what recording a session and
-// replaying it cost on top of simulating.
-//
-// For now it runs the colon-only simulation (trainer/colon_simulation.h; the JSON says
-// so in "simulation"): the figure the issue asks for needs the scope, which plugs in here.
+// replaying it cost on top of simulating. The simulation is the one colosim runs:
+// colon, scope and their contacts with FCL queries (trainer/world_simulation.h).
 #include <chrono>
 #include <cstdio>
 #include <algorithm>
@@ -13,9 +11,9 @@
 #include <unistd.h>
 
 #include "bench/registry.h"
-#include "trainer/colon_simulation.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
+#include "trainer/world_simulation.h"
 
 namespace colosim {
 
@@ -53,19 +51,19 @@ BenchOutput benchUntwist() {
   // 1. Simulation and scoring only.
   BlockTimer plain, record, replaying;
   {
-    ColonOnlySimulation sim(sc);
+    WorldSimulation sim(sc);
     runScenario(sc, sim, nullptr, plain.hooks());
   }
   // 2. The same, recording the session.
   {
-    ColonOnlySimulation sim(sc);
+    WorldSimulation sim(sc);
     SessionWriter w(session, sessionHeaderFor(sc, "bench"));
     runScenario(sc, sim, &w, record.hooks());
   }
   const auto session_bytes = std::filesystem::file_size(session);
   // 3. Replaying it (re-simulating, checking the hashes, scoring; reading is done first).
   const ReplayPlan plan = planReplay(session);
-  ColonOnlySimulation sim(plan.scenario);
+  WorldSimulation sim(plan.scenario);
   const ReplayResult r = replay(plan, sim, replaying.hooks());
   std::filesystem::remove(session);
   const double rtf = plain.realtimeFactor(sc.dt_s), rtf_record = record.realtimeFactor(sc.dt_s),
@@ -73,7 +71,7 @@ BenchOutput benchUntwist() {
 
   BenchOutput out;
   out.json = {{"benchmark", "untwist"},
-              {"simulation", "colon_only (no scope yet)"},
+              {"simulation", "world (colon, scope, FCL contacts)"},
               {"dt_s", sc.dt_s},
               {"simulated_s", simulated_s},
               {"realtime_factor", rtf},
@@ -84,7 +82,7 @@ BenchOutput benchUntwist() {
               {"replay_hash_ok", r.hashOk()}};
   char text[512];
   std::snprintf(text, sizeof text,
-                "sigmoid_untwist, %.0f s simulated at dt = %g s, colon-only simulation (no scope yet)\n"
+                "sigmoid_untwist, %.0f s simulated at dt = %g s, colon + scope + contacts\n"
                 "(median over blocks of 1000 steps)\n"
                 "  real-time factor            %8.2f (simulation and scoring)\n"
                 "  real-time factor recording  %8.2f (session file %.2f MB; cost ratio %.3f)\n"

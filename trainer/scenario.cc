@@ -55,6 +55,30 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
     s.start.until_s = start.number("until_s", 0.0, s.duration_s);
     s.scoring.start_s = s.start.until_s;
   }
+  if (start.has("colon_shape")) {
+    JsonObject shape = start.object("colon_shape");
+    s.start.shape_region = shape.string("region");
+    if (s.start.shape_region.empty()) shape.fail("region", "must not be empty");
+    const nlohmann::json& pts = shape.raw("points_m");
+    if (!pts.is_array() || pts.size() < 4 || pts.size() > 1000)
+      shape.fail("points_m", "expected a list of 4 to 1000 [x, y, z] points");
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const std::string key = "points_m[" + std::to_string(k) + "]";
+      if (!pts[k].is_array() || pts[k].size() != 3) shape.fail(key, "expected [x, y, z] in metres");
+      Vec3 p;
+      for (int d = 0; d < 3; ++d) {
+        if (!pts[k][d].is_number() || !std::isfinite(pts[k][d].get<double>()))
+          shape.fail(key, "coordinates must be finite numbers");
+        p(d) = pts[k][d].get<double>();
+        if (std::abs(p(d)) > 2.0) shape.fail(key, "coordinate out of range [-2, 2] m (wrong unit?)");
+      }
+      if (!s.start.shape_points_m.empty() && (p - s.start.shape_points_m.back()).norm() < 1e-4)
+        shape.fail(key, "closer than 0.1 mm to the previous point");
+      s.start.shape_points_m.push_back(p);
+    }
+    shape.ignore("note");
+    shape.finish();
+  }
   start.ignore("note");
   start.finish();
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/handle_input.h"
+#include "core/spline.h"
 #include "trainer/score.h"
 
 namespace colosim {
@@ -28,6 +29,15 @@ struct ScenarioStart {
   std::string kind = "rest";
   double settle_s = 0.0;  ///< [s], "settled" only
   double until_s = 0.0;   ///< [s], "scripted" only
+  /// Optional, with any kind: one region of the colon starts displaced from its rest
+  /// shape (for example a sigmoid rolled into an alpha loop), at rest, before the scope is
+  /// threaded along the colon. Its control points are placed along the Catmull-Rom curve
+  /// through shape_points_m at their rest arclength spacing, scaled to the curve's
+  /// length; the curve must start and end within 1 cm of the region's end points at rest
+  /// (the rest of the colon stays where it is). The mesentery still pulls the region
+  /// back towards its rest shape: the start is a deformed state, not a new anatomy.
+  std::string shape_region;           ///< a region name of the anatomy; empty: no shape
+  std::vector<Vec3> shape_points_m;   ///< waypoints in the patient frame (at least 4) [m]
 };
 
 /// Parameter overrides for this scenario (unset: the parameter file's value).

@@ -25,8 +25,11 @@ struct Telemetry {
   /// colon (up to ~3 at the flexures, which also carry the free segments); more where the
   /// scope stretches them.
   double mesentery_stretch = 0.0;
-  /// Loop measure [turns]: net turning of the scope inside the sigmoid, projected on the
-  /// coronal plane (netTurns in trainer/telemetry.h); ~1 for an alpha loop.
+  /// Loop measure [turns]: the scope from the anus to the end of the descending colon, projected on
+  /// the coronal plane, as fluoroscopy shows it; the signed turning number of the largest
+  /// closed loop it makes by crossing itself (crossingLoopTurns below): +-1 for an alpha
+  /// loop, 0 when the projection does not cross itself (a straight or merely curved
+  /// sigmoid, an N loop). Positive: anticlockwise seen from the front of the patient.
   double loop_turns = 0.0;
   bool tip_against_wall = false;  ///< red-out: the lens touches the mucosa
   bool lumen_visible = true;      ///< the lumen ahead is in the onboard view
@@ -44,5 +47,16 @@ struct Telemetry {
 /// Positive is anticlockwise seen from the tip of `normal`. A full circle gives +-1, an
 /// S shape ~0. Segments shorter than 1e-9 m after projection are skipped.
 double netTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal);
+
+/// Loop measure by self-crossing [turns]. The polyline is projected on the plane normal
+/// to `normal`; wherever two non-adjacent segments a < b cross, at X, the path
+/// X -> P[a+1] -> ... -> P[b] -> X is a closed loop, and its turning number (the sum of
+/// the signed turning angles at its corners, X included, over 2 pi) is an integer: +-1
+/// for a simple loop, +-2 for a loop wound twice. Returns the turning number of largest
+/// magnitude over all crossings (the first found among equals), signed as netTurns
+/// (positive anticlockwise seen from the tip of `normal`); 0 without crossing. Segments
+/// shorter than 1e-9 m after projection, and parallel segments, never cross.
+/// O(n^2) in the number of points (a few dozen here).
+double crossingLoopTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal);
 
 }  // namespace colosim

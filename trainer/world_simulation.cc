@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/colon_step.h"
+#include "core/input_error.h"
 #include "core/scope_step.h"
 #include "trainer/assets.h"
 #include "trainer/colon_simulation.h"
@@ -35,6 +37,48 @@ ClosestPoint nearestAround(const Points& q, int tracked, const Vec3& x) {
   return best;
 }
 
+// The start state's colon shape (ScenarioStart::shape_region): the region's control points
+// placed along the uniform Catmull-Rom curve through `waypoints` (ends extrapolated),
+// at their rest arclength spacing scaled to the curve's length; velocities zero.
+void placeColonRegion(const ColonModel& colon, ColonState& s, const std::string& region,
+                      const std::vector<Vec3>& waypoints, const std::string& where) {
+  int first = -1, last = -1;  // control points bounding the region's segments
+  for (int j = 0; j + 1 < colon.n; ++j) {
+    if (colon.region_names[colon.segment_region[j]] != region) continue;
+    if (first < 0) first = j;
+    last = j + 1;
+  }
+  if (first < 0) throw InputError(where + ": start.colon_shape.region: no region '" + region + "' in the anatomy");
+  const Vec3 p_first = s.q.col(first), p_last = s.q.col(last);
+  if ((waypoints.front() - p_first).norm() > 0.01 || (waypoints.back() - p_last).norm() > 0.01) {
+    char msg[256];
+    std::snprintf(msg, sizeof msg, "must start within 1 cm of (%.4f, %.4f, %.4f) and end within 1 cm of (%.4f, %.4f, %.4f) m",
+                  p_first.x(), p_first.y(), p_first.z(), p_last.x(), p_last.y(), p_last.z());
+    throw InputError(where + ": start.colon_shape.points_m: " + msg + " (the " + region + "'s ends)");
+  }
+  // The curve, densely sampled (Catmull-Rom through the waypoints, 64 samples a span).
+  const int m = static_cast<int>(waypoints.size());
+  Points w(3, m + 2);
+  for (int i = 0; i < m; ++i) w.col(i + 1) = waypoints[i];
+  w.col(0) = 2 * waypoints[0] - waypoints[1];
+  w.col(m + 1) = 2 * waypoints[m - 1] - waypoints[m - 2];
+  std::vector<Vec3> curve;
+  for (int seg = 1; seg < m; ++seg)
+    for (int k = 0; k < 64; ++k) curve.push_back(splinePoint(w, seg, k / 64.0));
+  curve.push_back(waypoints.back());
+  std::vector<double> arc(curve.size(), 0.0);
+  for (size_t i = 1; i < curve.size(); ++i) arc[i] = arc[i - 1] + (curve[i] - curve[i - 1]).norm();
+  const double rest_span = colon.s_rest_m(last) - colon.s_rest_m(first);
+  size_t i = 0;
+  for (int j = first; j <= last; ++j) {
+    const double target = arc.back() * (colon.s_rest_m(j) - colon.s_rest_m(first)) / rest_span;
+    while (i + 2 < curve.size() && arc[i + 1] < target) ++i;
+    const double f = std::clamp((target - arc[i]) / std::max(arc[i + 1] - arc[i], 1e-12), 0.0, 1.0);
+    s.q.col(j) = (1 - f) * curve[i] + f * curve[i + 1];
+    s.v.col(j).setZero();
+  }
+}
+
 }  // namespace
 
 WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law,
@@ -52,6 +96,9 @@ WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const
     for (long k = 0; k < steps; ++k) stepColon(model_.colon, state_.colon, dt_s_);
     state_.colon.time_s = 0.0;
   }
+  if (!scenario.start.shape_region.empty())
+    placeColonRegion(model_.colon, state_.colon, scenario.start.shape_region, scenario.start.shape_points_m,
+                     scenario.file);
   init(scenario.script.empty() ? HandleInput() : scenario.script.front().input);
 }
 
@@ -73,6 +120,9 @@ void WorldSimulation::init(const HandleInput& start) {
     if (sigmoid_first_ < 0) sigmoid_first_ = j;
     sigmoid_last_ = j + 1;
   }
+  loop_last_ = sigmoid_last_;
+  for (int j = 0; j + 1 < model_.colon.n; ++j)
+    if (model_.colon.region_names[model_.colon.segment_region[j]] == "descending") loop_last_ = j + 1;
   measure();
 }
 
@@ -163,22 +213,26 @@ void WorldSimulation::measure() {
     return;
   }
 
-  // Loop measure: the scope inside the sigmoid, projected on the coronal plane (normal:
-  // the antero-posterior axis), against the rest sigmoid over the same stretch.
-  const int P = static_cast<int>(scope.interaction_points_S.size());
-  std::vector<Vec3> loop, rest;
-  int lo = colon.n, hi = -1;
-  for (int k = s.scope.inside - 1; k >= 0; --k) {
-    const int j = s.track[k * P].colon_segment;
-    if (j < 0 || j < sigmoid_first_ || j >= sigmoid_last_) continue;
-    loop.push_back(s.scope.p_W[k]);
-    lo = std::min(lo, j);
-    hi = std::max(hi, j + 1);
-  }
-  if (loop.size() >= 3) {
-    for (int i = lo; i <= hi; ++i) rest.push_back(colon.q_rest.col(i));
-    const Vec3 coronal_normal(0, 1, 0);
-    t.loop_turns = std::abs(netTurns(loop, coronal_normal) - netTurns(rest, coronal_normal));
+  // Loop measure: the scope from the anus to the end of the descending colon (by the
+  // colon location each segment tracks), projected on the coronal plane (normal: the
+  // antero-posterior axis, so that the sign reads as seen from the front): the turning
+  // number of the loop it closes by crossing itself (crossingLoopTurns). An alpha loop's
+  // return limb can cross the first limb where it enters the descending colon (the loop
+  // drags the mobile sigmoid towards it), so the line does not stop at the sigmoid's end.
+  // An earlier measure, net turning against the rest sigmoid's, called a straightened
+  // sigmoid a half loop; a crossing is what an alpha loop looks like under fluoroscopy.
+  {
+    const int P = static_cast<int>(scope.interaction_points_S.size());
+    std::vector<Vec3>& line = loop_line_;
+    line.clear();
+    line.push_back(scope.p_W_anus);
+    for (int k = s.scope.inside - 1; k >= 0; --k) {
+      const int j = s.track[k * P].colon_segment;
+      if (j >= loop_last_) break;  // the scope has left the descending colon
+      line.push_back(s.scope.p_W[k]);
+    }
+    if (line.size() == static_cast<size_t>(s.scope.inside) + 1) line.push_back(tip);
+    t.loop_turns = crossingLoopTurns(line, Vec3(0, -1, 0));
   }
 
   // The view from the tip: red-out, lumen ahead, wall patches seen.

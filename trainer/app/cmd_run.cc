@@ -1,11 +1,12 @@
 // colosim run SCENARIO [--duration S] [--record FILE] [--frames DIR] [--view ...] [--fps N]
-// [--size WxH] [--score] [--json]: a scenario's scripted inputs, headless, on the colon +
+// [--size WxH] [--trace CSV] [--score] [--json]: a scenario's scripted inputs, headless, on the colon +
 // scope simulation. `settle` is the colon alone settling under gravity and its mesentery.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 
 #include "trainer/app/commands.h"
 #include "trainer/app/simulation_factory.h"
@@ -37,6 +38,8 @@ struct RunOptions {
   bool score = false;
   bool json = false;
   std::string query = "fcl";
+  std::string trace;        // CSV of the telemetry (a new file)
+  double trace_hz = 10;     // trace rows per simulated second
 };
 
 int runSettle(const RunOptions& o) {
@@ -85,6 +88,8 @@ int runScripted(const RunOptions& o) {
     throw InputError("--size: expected WxH in pixels (16..8192), got '" + o.size + "'");
   std::shared_ptr<const TensionLaw> law;
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
+  if (!o.trace.empty() && std::filesystem::exists(o.trace))
+    throw InputError(o.trace + ": exists (--trace never overwrites a file)");
   if (!o.frames.empty()) {
     std::error_code ec;
     if (std::filesystem::exists(o.frames, ec) && !std::filesystem::is_empty(o.frames, ec))
@@ -103,8 +108,27 @@ int runScripted(const RunOptions& o) {
     peak_push = std::max(peak_push, t.handle_force_N);
     peak_pull = std::max(peak_pull, -t.handle_force_N);
     peak_torque = std::max(peak_torque, std::abs(t.handle_torque_Nm));
-    max_loop = std::max(max_loop, t.loop_turns);
+    max_loop = std::max(max_loop, std::abs(t.loop_turns));
   };
+  // --trace: one CSV row of the telemetry every 1 / trace_hz simulated seconds.
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, &std::fclose);
+  if (!o.trace.empty()) {
+    trace.reset(std::fopen(o.trace.c_str(), "wx"));
+    if (!trace) throw InputError(o.trace + ": cannot create the file");
+    std::fprintf(trace.get(),
+                 "time_s,insertion_m,rotation_rad,handle_force_N,handle_torque_Nm,wall_force_peak_N,"
+                 "tip_x_m,tip_y_m,tip_z_m,tip_to_caecum_m,mesentery_stretch,loop_turns\n");
+    const long every = std::max(1L, std::lround(1.0 / (o.trace_hz * scenario.dt_s)));
+    long n = 0;
+    hooks.on_step = [&, every, n, record = hooks.on_step](const Telemetry& t) mutable {
+      record(t);
+      if (n++ % every != 0) return;
+      std::fprintf(trace.get(), "%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f,%.4f,%g\n", t.time_s,
+                   t.input.insertion_m, t.input.rotation_rad, t.handle_force_N, t.handle_torque_Nm,
+                   t.wall_force_peak_N, t.tip_position_m.x(), t.tip_position_m.y(), t.tip_position_m.z(),
+                   t.tip_to_caecum_m, t.mesentery_stretch, t.loop_turns);
+    };
+  }
   if (!o.frames.empty()) {
     std::filesystem::create_directories(o.frames);
     hooks.on_frame = makeFrameWriter(o.frames, o.view, width, height);
@@ -157,6 +181,11 @@ void addRunCommand(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"onboard", "global", "both"}))->capture_default_str();
   cmd->add_option("--fps", o->fps, "frames per simulated second")->check(CLI::Range(0.1, 1000.0))->capture_default_str();
   cmd->add_option("--size", o->size, "frame size WxH [px] (each view)")->capture_default_str();
+  cmd->add_option("--trace", o->trace,
+                  "write the telemetry (handle force and torque, tip, mesentery stretch, loop turns) as CSV "
+                  "into this new file");
+  cmd->add_option("--trace-hz", o->trace_hz, "trace rows per simulated second")
+      ->check(CLI::Range(0.1, 1000.0))->capture_default_str();
   cmd->add_flag("--score", o->score, "print the scores of the run");
   cmd->add_flag("--json", o->json, "print one JSON object on stdout (the scores with --score)");
   cmd->add_option("--query", o->query, "contact queries: fcl, fcl:MANAGER or the paper's scan")

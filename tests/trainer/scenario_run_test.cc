@@ -1,0 +1,97 @@
+// The shipped scenarios run whole on the colon + scope world (trainer/world_simulation.h):
+// the alpha loop of sigmoid_untwist is there early and gone at the end, the expert
+// session scores better than the novice's (sigmoid_push), and the scripted
+// free_insertion gives handle forces of the clinical order (Appleyard et al. 2000).
+// Each scenario runs once per process (a shared fixture): ctest runs this binary as one
+// test, and scripts/sanitize leaves it out (whole scenarios under ASan take too long).
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "fixture.h"
+#include "trainer/replay.h"
+#include "trainer/scenario.h"
+#include "trainer/world_simulation.h"
+
+namespace colosim {
+namespace {
+
+struct ScenarioRun {
+  nlohmann::json scores;
+  std::vector<double> time_s, loop_turns;  // every step
+  double peak_push_N = 0, peak_torque_Nm = 0, min_tip_to_caecum_m = 1e9;
+};
+
+// Runs a shipped scenario once per process and keeps what the tests look at.
+const ScenarioRun& runOnce(const std::string& name) {
+  static std::map<std::string, ScenarioRun> runs;
+  auto it = runs.find(name);
+  if (it != runs.end()) return it->second;
+  const Scenario sc = findScenario(name);
+  WorldSimulation sim(sc);
+  ScenarioRun r;
+  RunHooks hooks;
+  hooks.on_step = [&r](const Telemetry& t) {
+    r.time_s.push_back(t.time_s);
+    r.loop_turns.push_back(t.loop_turns);
+    r.peak_push_N = std::max(r.peak_push_N, t.handle_force_N);
+    r.peak_torque_Nm = std::max(r.peak_torque_Nm, std::abs(t.handle_torque_Nm));
+    r.min_tip_to_caecum_m = std::min(r.min_tip_to_caecum_m, t.tip_to_caecum_m);
+  };
+  r.scores = runScenario(sc, sim, nullptr, hooks).scores;
+  return runs.emplace(name, std::move(r)).first->second;
+}
+
+// Smallest |loop_turns| over [t0, t1] s.
+double minLoop(const ScenarioRun& r, double t0, double t1) {
+  double m = 1e9;
+  for (size_t i = 0; i < r.time_s.size(); ++i)
+    if (r.time_s[i] >= t0 && r.time_s[i] <= t1) m = std::min(m, std::abs(r.loop_turns[i]));
+  return m;
+}
+// Largest |loop_turns| over [t0, t1] s.
+double maxLoop(const ScenarioRun& r, double t0, double t1) {
+  double m = 0;
+  for (size_t i = 0; i < r.time_s.size(); ++i)
+    if (r.time_s[i] >= t0 && r.time_s[i] <= t1) m = std::max(m, std::abs(r.loop_turns[i]));
+  return m;
+}
+
+TEST(ScenarioRuns, SigmoidUntwistLoopIsThereEarlyAndGoneAtTheEnd) {
+  const ScenarioRun& r = runOnce("sigmoid_untwist");
+  // The start state's alpha loop stands through the set-up and the first second of the
+  // manoeuvre (0-3 s), measured on the simulated scope shape.
+  EXPECT_GE(minLoop(r, 0.0, 3.0), 1.0);
+  // After the clockwise withdrawal and through the advance (the last 10 s): no crossing.
+  EXPECT_EQ(maxLoop(r, 18.0, 28.0), 0.0);
+  EXPECT_EQ(r.loop_turns.back(), 0.0);
+}
+
+TEST(ScenarioRuns, ExpertScoresBetterThanTheNovice) {
+  const ScenarioRun& expert = runOnce("sigmoid_untwist");
+  const ScenarioRun& novice = runOnce("sigmoid_push");
+  // The novice's loop is still there at the end.
+  EXPECT_GE(std::abs(novice.loop_turns.back()), 1.0);
+  for (const char* key : {"loop_time_s", "peak_handle_force_N", "discomfort_index"}) {
+    const double e = expert.scores.at(key).get<double>(), n = novice.scores.at(key).get<double>();
+    EXPECT_LT(e, n) << key << ": expert " << e << ", novice " << n;
+  }
+  // And by a margin on the loop: most of the novice's scored 26 s, a few of the expert's.
+  EXPECT_LT(expert.scores.at("loop_time_s").get<double>(), 6.0);
+  EXPECT_GT(novice.scores.at("loop_time_s").get<double>(), 20.0);
+}
+
+TEST(ScenarioRuns, FreeInsertionHandleForcesOfTheClinicalOrder) {
+  const ScenarioRun& r = runOnce("free_insertion");
+  // Appleyard et al. 2000: peak push ~43 N, peak torque ~1 N m; the bounds.
+  EXPECT_GE(r.peak_push_N, 5.0);
+  EXPECT_LE(r.peak_push_N, 60.0);
+  EXPECT_LT(r.peak_torque_Nm, 2.0);
+  std::printf("free_insertion: peak push %.2f N, peak torque %.3f N m, closest to the caecal pole %.3f m\n",
+              r.peak_push_N, r.peak_torque_Nm, r.min_tip_to_caecum_m);
+}
+
+}  // namespace
+}  // namespace colosim
