@@ -12,6 +12,9 @@ namespace colosim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Display colour of red-out where the lens in the tissue sees no wall surface (the
+// shader's kRedoutAlbedo at a few mm, tone mapped).
+constexpr float kRedoutClear[3] = {0.62f, 0.13f, 0.09f};
 
 // Wall and scope. MODE (a #define, one program per mode: a uniform branch costs llvmpipe
 // both sides per pixel): 0 onboard wall (texture, tip light), 1 onboard solid (scope),
@@ -74,6 +77,8 @@ uniform vec3 u_tip_color;
 uniform vec3 u_tip_pos;      // [m]
 uniform float u_tip_len;     // [m]
 out vec4 o_color;
+// Red-out: the colour of mucosa lit through from behind at contact, in linear light.
+const vec3 kRedoutAlbedo = vec3(0.55, 0.035, 0.02);
 void main() {
   // inversesqrt rather than length, normalize and divisions: llvmpipe runs this per pixel.
   vec3 V = u_eye - v_pos;
@@ -110,6 +115,12 @@ void main() {
 #endif
     // A little wrap-around light (0.15) keeps fold silhouettes from going pitch black.
     vec3 c = u_exposure * (albedo * (0.15 + 0.85 * ndv) + vec3(spec)) * E;
+#if MODE == 0
+    // The wall seen from its outside (front faces look into the lumen): the lens is in
+    // the tissue, pressed into the soft wall or a fold, and sees the tip light through
+    // the mucosa: red-out, a featureless red that the light still makes brighter nearby.
+    if (!gl_FrontFacing) c = u_exposure * kRedoutAlbedo * (0.15 + 0.85 * ndv) * E;
+#endif
     c = c / (1.0 + c);  // tone map: bright but never clipped flat
     c = sqrt(c);
     o_color = vec4(c, 1.0);
@@ -322,7 +333,12 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   checkCameraPose(camera);
   uploadMeshes(model, q, scope, tube_, /*global=*/false);
   useViewport(vp);
-  glClearColor(0, 0, 0, 1);
+  // Beyond the far plane the lumen is dark; a lens in the tissue (pressed into the soft
+  // wall) sees red wherever no wall surface lies in its view.
+  if (insideLumen(colon_mesh_, rings_, camera.p_WC_m))
+    glClearColor(0, 0, 0, 1);
+  else
+    glClearColor(kRedoutClear[0], kRedoutClear[1], kRedoutClear[2], 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);

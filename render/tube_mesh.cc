@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace colosim {
@@ -165,6 +166,49 @@ void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions&
   ColonRings rings;
   sampleColonRings(model, q, options, rings);
   buildColonMesh(rings, options, mesh);
+}
+
+bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m) {
+  const int count = std::min(mesh.rings, static_cast<int>(rings.centre_m.size()));
+  const int rv = mesh.ring_vertices;
+  const double reach2 = reach_m * reach_m;
+  // Nearest hit per ray (Moller-Trumbore) and whether it is seen from the lumen side.
+  const Vec3 dirs[6] = {Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()};
+  double hit_t[6];
+  bool hit_front[6];
+  std::fill(hit_t, hit_t + 6, std::numeric_limits<double>::infinity());
+  for (int i = 0; i + 1 < count; ++i) {
+    if ((rings.centre_m[i] - x_m).squaredNorm() > reach2 && (rings.centre_m[i + 1] - x_m).squaredNorm() > reach2)
+      continue;
+    const size_t first = static_cast<size_t>(i) * (rv - 1) * 6;
+    for (size_t t = first; t < first + static_cast<size_t>(rv - 1) * 6 && t + 2 < mesh.indices.size(); t += 3) {
+      const Vec3 a = mesh.position(mesh.indices[t]);
+      const Vec3 e1 = mesh.position(mesh.indices[t + 1]) - a, e2 = mesh.position(mesh.indices[t + 2]) - a;
+      const Vec3 n = e1.cross(e2);  // counter-clockwise: points into the lumen
+      const Vec3 to = x_m - a;
+      for (int r = 0; r < 6; ++r) {
+        const Vec3& d = dirs[r];
+        const Vec3 p = d.cross(e2);
+        const double det = e1.dot(p);
+        if (std::abs(det) < 1e-18) continue;
+        const double u = to.dot(p) / det;
+        if (u < 0 || u > 1) continue;
+        const Vec3 qv = to.cross(e1);
+        const double v = d.dot(qv) / det;
+        if (v < 0 || u + v > 1) continue;
+        const double dist = e2.dot(qv) / det;
+        if (dist <= 0 || dist >= hit_t[r]) continue;
+        hit_t[r] = dist;
+        hit_front[r] = n.dot(d) < 0;
+      }
+    }
+  }
+  int inside = 0, outside = 0;
+  for (int r = 0; r < 6; ++r) {
+    if (!std::isfinite(hit_t[r])) continue;
+    (hit_front[r] ? inside : outside) += 1;
+  }
+  return inside > outside;
 }
 
 void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,

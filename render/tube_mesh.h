@@ -71,7 +71,17 @@ void sampleColonRings(const ColonModel& model, const Points& q, const TubeOption
 double haustralRadius(double radius_m, double s_rest_m, double theta_rad, double fold_weight,
                       const TubeOptions& options);
 
-/// Builds the colon wall from sampled rings. [out] mesh (its buffers are reused).
+/// Whether x_m lies in the lumen of a colon mesh built by buildColonMesh from `rings`:
+/// six rays from x_m (along +-x, +-y, +-z) against the mesh's triangles whose rings lie
+/// within reach_m; a ray whose first hit is a wall facing into the lumen votes inside, one
+/// that meets the wall from behind votes outside. Inside when the inside votes win. A
+/// point in the tissue (a lens pressed into the soft wall or a fold, or where a kinked
+/// centreline turns the tube inside out) is outside. Rays that meet nothing do not vote;
+/// no vote at all is outside.
+bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m = 0.06);
+
+/// Builds the colon wall from sampled rings. Triangles are wound counter-clockwise seen
+/// from the lumen (the front faces look inwards). [out] mesh (its buffers are reused).
 void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMesh& mesh);
 
 /// sampleColonRings then buildColonMesh.

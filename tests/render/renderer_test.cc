@@ -120,6 +120,34 @@ TEST_F(RenderTest, OnboardBrighterNearTheWall) {
   }
 }
 
+// A lens pressed into the wall (in the tissue, outside the drawn surface) sees red-out,
+// never black: red everywhere, and much redder than the ordinary view a few mm back.
+TEST_F(RenderTest, OnboardInTheTissueIsRedOut) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  auto redness = [](const Image& img) {  // mean of r - max(g, b) over the image [0, 1]
+    double sum = 0;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const uint8_t* p = const_cast<Image&>(img).at(x, y);
+        sum += (p[0] - std::max(p[1], p[2])) / 255.0;
+      }
+    return sum / (img.width * img.height);
+  };
+  for (const Vec3& forward : {Vec3(1, 0, 0), Vec3(1, 0, 1), Vec3(-1, 0, 0.2)}) {
+    const Image in_wall =
+        onboard(*ctx_, *renderer_, colon, lookAlong(Vec3(0.0225, 0, 0.15), forward.normalized(), Vec3::UnitZ()));
+    dump(in_wall, "onboard_in_tissue");
+    int dark = 0;
+    for (int y = 0; y < in_wall.height; ++y)
+      for (int x = 0; x < in_wall.width; ++x) dark += luminance(const_cast<Image&>(in_wall).at(x, y)) < 0.02;
+    EXPECT_EQ(dark, 0) << "forward " << forward.transpose();
+    EXPECT_GT(redness(in_wall), 0.3) << "forward " << forward.transpose();
+  }
+  const Image in_lumen =
+      onboard(*ctx_, *renderer_, colon, lookAlong(Vec3(0.012, 0, 0.15), Vec3(1, 0, 1).normalized(), Vec3::UnitZ()));
+  EXPECT_LT(redness(in_lumen), 0.3);
+}
+
 // The scope itself: behind the lens it is invisible (every pixel as without it), and
 // retroflexed (the tip bent back to look at the shaft) it fills part of the image.
 TEST_F(RenderTest, OnboardShowsTheScopeOnlyWhenRetroflexed) {

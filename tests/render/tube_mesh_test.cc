@@ -153,6 +153,38 @@ TEST_F(AdultMesh, VisibleStripsKeepsEverythingInView) {
   EXPECT_GT(culled_total, 1000) << "the cull should drop something";
 }
 
+// insideLumen against the wall as drawn: on the axis and just inside the wall inside;
+// just beyond the wall outside, also in a fold, where the wall is closer than the
+// unfolded radius (a point there is in the fold's tissue).
+TEST(TubeMesh, InsideLumenFollowsTheDrawnWall) {
+  const ColonModel model = test::straightColon(0.36, 0.02);
+  ColonRings rings;
+  sampleColonRings(model, model.q_rest, TubeOptions{}, rings);
+  TubeMesh mesh;
+  buildColonMesh(rings, TubeOptions{}, mesh);
+  // On one side of the mesh, the rings in the middle third where the wall is nearest
+  // (a fold) and farthest (between folds) from the axis.
+  const int side = 5, rv = mesh.ring_vertices;
+  int fold = -1, gap = -1;
+  double r_fold = 1, r_gap = 0;
+  for (int i = mesh.rings / 3; i < 2 * mesh.rings / 3; ++i) {
+    const double r = (mesh.position(i * rv + side) - rings.centre_m[i]).norm();
+    if (r < r_fold) r_fold = r, fold = i;
+    if (r > r_gap) r_gap = r, gap = i;
+  }
+  ASSERT_LT(r_fold, r_gap - 0.003);  // folds narrow the lumen by millimetres
+  auto at = [&](int ring, double r) -> Vec3 {
+    return rings.centre_m[ring] + r * (mesh.position(ring * rv + side) - rings.centre_m[ring]).normalized();
+  };
+  EXPECT_TRUE(insideLumen(mesh, rings, rings.centre_m[mesh.rings / 2]));
+  EXPECT_TRUE(insideLumen(mesh, rings, at(gap, r_gap - 0.0015)));
+  EXPECT_FALSE(insideLumen(mesh, rings, at(gap, r_gap + 0.0015)));
+  EXPECT_TRUE(insideLumen(mesh, rings, at(fold, r_fold - 0.0015)));
+  EXPECT_FALSE(insideLumen(mesh, rings, at(fold, r_fold + 0.0015)));  // in the fold's tissue
+  EXPECT_LT(r_fold + 0.0015, 0.02);  // ... though within the unfolded radius
+  EXPECT_FALSE(insideLumen(mesh, rings, Vec3(0.2, 0, 0.13)));  // far outside: no wall in reach
+}
+
 TEST(TubeMesh, RejectsBadControlPoints) {
   const ColonModel model = test::straightColon();
   TubeMesh mesh;
