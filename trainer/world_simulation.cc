@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
 #include "core/colon_step.h"
 #include "core/input_error.h"
 #include "core/scope_step.h"
 #include "trainer/assets.h"
 #include "trainer/colon_simulation.h"
+#include "trainer/json_position.h"
 #include "trainer/scenario.h"
 
 namespace colosim {
@@ -96,9 +99,16 @@ WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const
     for (long k = 0; k < steps; ++k) stepColon(model_.colon, state_.colon, dt_s_);
     state_.colon.time_s = 0.0;
   }
-  if (!scenario.start.shape_region.empty())
-    placeColonRegion(model_.colon, state_.colon, scenario.start.shape_region, scenario.start.shape_points_m,
-                     scenario.file);
+  if (!scenario.start.shape_region.empty()) {
+    try {
+      placeColonRegion(model_.colon, state_.colon, scenario.start.shape_region, scenario.start.shape_points_m,
+                       scenario.file);
+    } catch (const InputError& e) {  // name the line of the key in the scenario file
+      std::ifstream in(scenario.file);
+      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      throw InputError(addLineToMessage(e.what(), scenario.file, text));
+    }
+  }
   init(scenario.script.empty() ? HandleInput() : scenario.script.front().input);
 }
 

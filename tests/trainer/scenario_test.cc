@@ -10,6 +10,7 @@
 #include "session_fixture.h"
 #include "trainer/json_position.h"
 #include "trainer/strict_json.h"
+#include "trainer/world_simulation.h"
 
 namespace colosim {
 namespace {
@@ -81,6 +82,13 @@ TEST(Scenario, InputsInterpolateLinearlyAndHoldAtTheEnds) {
   EXPECT_EQ(scriptedInput(script, 0.0).insertion_m, 0.0);
 }
 
+constexpr const char* kRest = "\"start\": {\"kind\": \"rest\"}";
+// smallScenarioText's start line with a colon shape of these points (a JSON list).
+std::string shape(const std::string& points, const std::string& region = "sigmoid", const std::string& extra = "") {
+  return "\"start\": {\"kind\": \"rest\", \"colon_shape\": {\"region\": \"" + region + "\", \"points_m\": " +
+         points + extra + "}}";
+}
+
 TEST(Scenario, BadFilesNameFileKeyAndLine) {
   test::TempDir dir;
   const std::string good = test::smallScenarioText();
@@ -104,6 +112,16 @@ TEST(Scenario, BadFilesNameFileKeyAndLine) {
       {"\"seed\": 7", "\"seed\": NaN", "line 5"},
       {"\"anatomy\": \"anatomy/adult.json\"", "\"anatomy\": \"anatomy/none.json\"", ":4: anatomy: no such file"},
       {"\"script\": [", "\"overrides\": {\"wall_friction\": 5},\n  \"script\": [", ":7: overrides.wall_friction"},
+      // The start state's colon shape (start.colon_shape): the list, each point, unknown keys.
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0,0.3]]"), ":6: start.colon_shape.points_m: expected a list of 4 to 1000"},
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,\"x\",0.3],[0,0,0.4]]"),
+       ":6: start.colon_shape.points_m[2]: coordinates must be finite numbers"},
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0,30],[0,0,0.4]]"), ":6: start.colon_shape.points_m[2]: coordinate out of range"},
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0,0.2],[0,0,0.4]]"), ":6: start.colon_shape.points_m[2]: closer than 0.1 mm"},
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0.1],[0,0,0.4]]"), ":6: start.colon_shape.points_m[2]: expected [x, y, z]"},
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0,0.3],[0,0,0.4]]", "sigmoid", ", \"twist\": 1"),
+       ":6: start.colon_shape.twist: unknown key"},
+      {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0,0.3],[0,0,0.4]]", ""), ":6: start.colon_shape.region: must not be empty"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.to);
@@ -113,6 +131,22 @@ TEST(Scenario, BadFilesNameFileKeyAndLine) {
   // Cut off: a syntax error with its line.
   const std::string cut = dir.write("cut.json", good.substr(0, good.size() / 2));
   test::expectInputError([&] { loadScenario(cut); }, {cut, "invalid JSON", "line"});
+}
+
+// A colon shape that reads but does not fit the anatomy is refused when the simulation is
+// built, naming the file and the key: a region the anatomy does not have, and points that
+// do not start and end at the region's ends.
+TEST(Scenario, ColonShapeMustFitTheAnatomy) {
+  test::TempDir dir;
+  const std::string good = test::smallScenarioText();
+  const std::string pts = "[[0,0,0.1],[0,0.01,0.2],[0.02,0,0.3],[0,0,0.4]]";
+  const std::string no_region = dir.write("no_region.json", replaced(good, kRest, shape(pts, "appendix")));
+  const Scenario a = loadScenario(no_region);
+  test::expectInputError([&] { WorldSimulation sim(a); }, {no_region + ":6: start.colon_shape.region: no region 'appendix'"});
+  const std::string off_ends = dir.write("off_ends.json", replaced(good, kRest, shape(pts)));
+  const Scenario b = loadScenario(off_ends);
+  test::expectInputError([&] { WorldSimulation sim(b); },
+                         {off_ends + ":6: start.colon_shape.points_m: must start within 1 cm of", "the sigmoid's ends"});
 }
 
 TEST(Scenario, KeyPathsMapToLines) {
