@@ -266,6 +266,12 @@ struct Renderer::Gl {
   GLuint texture = 0;
   MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
   GLuint text_vao = 0, text_vbo = 0;
+  // The reduced-size target of the render scale (created on first use, resized as needed),
+  // and the framebuffers bound before drawing into it.
+  GLuint scaled_fbo = 0, scaled_colour = 0, scaled_depth = 0;
+  int scaled_w = 0, scaled_h = 0;
+  GLint prev_draw_fbo = 0, prev_read_fbo = 0;
+  bool scaled_active = false;  // between beginScaled and endScaled at a scale below 1
 };
 
 Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
@@ -310,6 +316,59 @@ Renderer::~Renderer() {
   glDeleteVertexArrays(1, &gl_->text_vao);
   glDeleteBuffers(1, &gl_->text_vbo);
   glDeleteTextures(1, &gl_->texture);
+  if (gl_->scaled_fbo) {
+    glDeleteFramebuffers(1, &gl_->scaled_fbo);
+    glDeleteRenderbuffers(1, &gl_->scaled_colour);
+    glDeleteRenderbuffers(1, &gl_->scaled_depth);
+  }
+}
+
+Viewport Renderer::beginScaled(const Viewport& vp, double scale) {
+  if (!(scale >= 0.25 && scale <= 1.0)) throw std::invalid_argument("render: render_scale must be in [0.25, 1]");
+  gl_->scaled_active = false;
+  if (scale == 1.0) return vp;
+  const int w = std::max(1, static_cast<int>(std::lround(vp.width * scale)));
+  const int h = std::max(1, static_cast<int>(std::lround(vp.height * scale)));
+  Gl& g = *gl_;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &g.prev_draw_fbo);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &g.prev_read_fbo);
+  if (!g.scaled_fbo) {
+    glGenFramebuffers(1, &g.scaled_fbo);
+    glGenRenderbuffers(1, &g.scaled_colour);
+    glGenRenderbuffers(1, &g.scaled_depth);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, g.scaled_fbo);
+  if (w != g.scaled_w || h != g.scaled_h) {
+    glBindRenderbuffer(GL_RENDERBUFFER, g.scaled_colour);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, g.scaled_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.scaled_colour);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.scaled_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.prev_draw_fbo);
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, g.prev_read_fbo);
+      g.scaled_w = g.scaled_h = 0;
+      throw std::runtime_error("render: the render-scale framebuffer is incomplete");
+    }
+    g.scaled_w = w, g.scaled_h = h;
+  }
+  g.scaled_active = true;
+  return Viewport{0, 0, w, h};
+}
+
+void Renderer::endScaled(const Viewport& vp, const Viewport& drawn) {
+  Gl& g = *gl_;
+  if (!g.scaled_active) return;
+  g.scaled_active = false;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.scaled_fbo);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, g.prev_draw_fbo);
+  useViewport(vp);  // the blit honours the scissor: this view only
+  glBlitFramebuffer(0, 0, drawn.width, drawn.height, vp.x, vp.y, vp.x + vp.width, vp.y + vp.height,
+                    GL_COLOR_BUFFER_BIT, GL_LINEAR);
+  glDisable(GL_SCISSOR_TEST);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, g.prev_read_fbo);
 }
 
 void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
@@ -332,7 +391,8 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   if (vp.width <= 0 || vp.height <= 0) throw std::invalid_argument("render: empty viewport");
   checkCameraPose(camera);
   uploadMeshes(model, q, scope, tube_, /*global=*/false);
-  useViewport(vp);
+  const Viewport target = beginScaled(vp, optics.render_scale);
+  useViewport(target);
   // Beyond the far plane the lumen is dark; a lens in the tissue (pressed into the soft
   // wall) sees red wherever no wall surface lies in its view.
   if (insideLumen(colon_mesh_, rings_, camera.p_WC_m))
@@ -384,6 +444,7 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   glDisable(GL_CLIP_DISTANCE0);
   glDisable(GL_SCISSOR_TEST);
   glUseProgram(0);
+  endScaled(vp, target);
 }
 
 void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,
@@ -394,7 +455,8 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   coarse.samples_per_segment = style.colon_samples_per_segment;
   coarse.haustra = false;
   uploadMeshes(model, q, scope, coarse, /*global=*/true);
-  useViewport(vp);
+  const Viewport target = beginScaled(vp, style.render_scale);
+  useViewport(target);
   glClearColor(style.background[0], style.background[1], style.background[2], 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
@@ -440,6 +502,7 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   glDisable(GL_BLEND);
   glDisable(GL_SCISSOR_TEST);
   glUseProgram(0);
+  endScaled(vp, target);
 }
 
 void Renderer::drawText(const std::string& text, int x_px, int y_px, int scale,

@@ -37,6 +37,7 @@ struct GlobalStyle {
   // The outside view needs no fine detail: a coarser colon without folds keeps it cheap.
   int colon_sides = 16;               ///< facets around the colon
   int colon_samples_per_segment = 4;  ///< rings per spline segment
+  double render_scale = 1.0;          ///< as OnboardOptics::render_scale
 };
 
 class Renderer {
@@ -82,6 +83,11 @@ class Renderer {
   struct Gl;
   void uploadMeshes(const ColonModel& model, const Points& q, const ScopeShape& scope,
                     const TubeOptions& options, bool global);
+  // Render scale: beginScaled binds an offscreen target of the scaled size (when scale < 1)
+  // and returns the viewport to draw into; endScaled stretches it onto `viewport` of the
+  // framebuffer that was bound before. std::invalid_argument outside [0.25, 1].
+  Viewport beginScaled(const Viewport& viewport, double scale);
+  void endScaled(const Viewport& viewport, const Viewport& drawn);
   TubeOptions tube_;
   ColonRings rings_;
   TubeMesh colon_mesh_, colon_global_mesh_, scope_mesh_;

@@ -270,6 +270,46 @@ TEST_F(RenderTest, PngExportAtRequestedSize) {
 }
 
 // Split view into one framebuffer: each half shows its own view and nothing else.
+// The render scale (colosim train's cheaper views): drawn smaller and stretched onto the
+// same viewport, the image keeps its look (same brightness per annulus within a few %),
+// stays in its viewport in a split screen, and out-of-range scales are refused.
+TEST_F(RenderTest, RenderScaleKeepsTheImageAndItsViewport) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  const CameraPose cam = lookAlong(Vec3(0.006, 0, 0.06), Vec3::UnitZ(), Vec3::UnitY());
+  const Image full = onboard(*ctx_, *renderer_, colon, cam);
+  OnboardOptics scaled;
+  scaled.render_scale = 0.6;
+  const Image small = onboard(*ctx_, *renderer_, colon, cam, scaled);
+  dump(small, "onboard_scale_0.6");
+  ASSERT_EQ(small.width, full.width);
+  for (double r0 = 0; r0 < 0.9; r0 += 0.15) {
+    const double a = meanInAnnulus(full, r0, r0 + 0.15), b = meanInAnnulus(small, r0, r0 + 0.15);
+    EXPECT_NEAR(b, a, 0.02 + 0.05 * a) << "annulus at " << r0;
+  }
+  // Split screen: the scaled global view on the right leaves the left half as drawn.
+  ctx_->resize(400, 200);
+  const ScopeShape scope{{Vec3(0, 0, 0), Vec3(0, 0, 0.06)}, 0.0065};
+  renderer_->drawOnboard(colon, colon.q_rest, scope, cam, Viewport{0, 0, 200, 200}, scaled);
+  const Image left_only = ctx_->read();
+  GlobalStyle style;
+  style.render_scale = 0.5;
+  renderer_->drawGlobal(colon, colon.q_rest, scope, frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), 1.0),
+                        Viewport{200, 0, 200, 200}, style);
+  const Image both = ctx_->read();
+  int differing = 0;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x)
+      for (int c = 0; c < 3; ++c) differing += left_only.at(x, y)[c] != both.at(x, y)[c];
+  EXPECT_EQ(differing, 0);
+  EXPECT_NEAR(both.at(399, 0)[2], std::lround(style.background[2] * 255), 1);
+  for (double bad : {0.0, 0.2, 1.5, std::nan("")}) {
+    OnboardOptics o;
+    o.render_scale = bad;
+    EXPECT_THROW(renderer_->drawOnboard(colon, colon.q_rest, scope, cam, Viewport{0, 0, 200, 200}, o),
+                 std::invalid_argument);
+  }
+}
+
 TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
   ctx_->resize(400, 200);
   const ColonModel colon = test::straightColon();

@@ -58,6 +58,7 @@ struct TrainOptions {
   bool autopilot = false;
   bool json = false;
   int render_threads = -1;               // LP_NUM_THREADS for llvmpipe; 0: Mesa's default; -1: auto
+  double render_scale = 0.7;             // onboard view drawn at this fraction of its size, stretched (render/camera.h)
   std::string screenshot;                // PNG of the last frame
 };
 
@@ -209,7 +210,7 @@ int runTrain(const TrainOptions& o) {
     shape.radius_m = snap.scope_radius_m;
     const int view_w = view == "both" ? fb_w / 2 : fb_w;
     drawViews(renderer, colon, snap.colon_q, shape, tipCameraPose(snap.p_WTip_m, snap.R_WTip), view, view_w, fb_h,
-              window.globalCamera());
+              window.globalCamera(), o.render_scale);
     drawOverlay(renderer, snap, scenario.scoring, shown_fps, shown_physics_hz, fb_w, fb_h);
   };
   loop.start();
@@ -303,6 +304,7 @@ int runTrain(const TrainOptions& o) {
                      {"frame_ms_median", frame_ms_median},
                      {"draw_cpu_ms_per_frame", draw_cpu_ms_per_frame},
                      {"load_average_1min", load_1min},
+                     {"render_scale", o.render_scale},
                      {"window_px", std::to_string(window.framebufferWidth()) + "x" +
                                        std::to_string(window.framebufferHeight())},
                      {"view", view},
@@ -352,6 +354,11 @@ void addTrainCommand(CLI::App& app, Action& action) {
                   "rasteriser threads of Mesa's llvmpipe (sets LP_NUM_THREADS; 0: Mesa's default, one per "
                   "core); default: cores - 1, so that physics keeps a core, unless LP_NUM_THREADS is set")
       ->check(CLI::Range(0, 64));
+  cmd->add_option("--render-scale", o->render_scale,
+                  "draw the onboard view at this fraction of its size and stretch it (its fragment work "
+                  "goes with the square; 1: full size)")
+      ->check(CLI::Range(0.25, 1.0))
+      ->capture_default_str();
   cmd->add_option("--screenshot", o->screenshot, "write the last frame into this new PNG file");
   cmd->add_flag("--json", o->json, "print one JSON object on stdout at the end (rates, session, scores)");
   cmd->callback([&action, o] { action = [o]() -> int { return runTrain(*o); }; });

@@ -39,22 +39,26 @@ struct FrameState {
 }  // namespace
 
 void drawViews(Renderer& renderer, const WorldSimulation& sim, const std::string& view, int width_px,
-               int height_px, const OrbitCamera& global_camera) {
+               int height_px, const OrbitCamera& global_camera, double onboard_scale) {
   ScopeShape shape;
   shape.centreline_m = sim.scopeCentreline();
   shape.radius_m = sim.model().scope.radius_m;
   drawViews(renderer, sim.model().colon, sim.state().colon.q, shape, tipCamera(sim), view, width_px, height_px,
-            global_camera);
+            global_camera, onboard_scale);
 }
 
 void drawViews(Renderer& renderer, const ColonModel& colon, const Points& q, const ScopeShape& shape,
                const CameraPose& tip_camera, const std::string& view, int width_px, int height_px,
-               const OrbitCamera& global_camera) {
+               const OrbitCamera& global_camera, double onboard_scale) {
   int x = 0;
   if (view == "onboard" || view == "both") {
-    renderer.drawOnboard(colon, q, shape, tip_camera, Viewport{0, 0, width_px, height_px});
+    OnboardOptics optics;
+    optics.render_scale = onboard_scale;
+    renderer.drawOnboard(colon, q, shape, tip_camera, Viewport{0, 0, width_px, height_px}, optics);
     x = width_px;
   }
+  // The global view stays at full size: under llvmpipe its cost is mostly per vertex and
+  // the stretching blit would cost what the smaller image saves (measured, README).
   if (view == "global" || view == "both")
     renderer.drawGlobal(colon, q, shape, global_camera, Viewport{x, 0, width_px, height_px});
 }

@@ -32,14 +32,15 @@ class WorldSimulation;
 
 namespace colosim::app {
 /// Draws `view` ("onboard", "global" or "both" side by side, each width x height pixels)
-/// of a world simulation into the current GL context.
+/// of a world simulation into the current GL context; the onboard view at onboard_scale
+/// (OnboardOptics::render_scale).
 void drawViews(Renderer& renderer, const WorldSimulation& sim, const std::string& view, int width_px,
-               int height_px, const OrbitCamera& global_camera);
+               int height_px, const OrbitCamera& global_camera, double onboard_scale = 1.0);
 /// The same from the parts of a state (a snapshot copied out of colosim train's physics
 /// thread): colon control points q (3 x n) [m], the scope, and the onboard camera.
 void drawViews(Renderer& renderer, const ColonModel& colon, const Points& q, const ScopeShape& scope,
                const CameraPose& tip_camera, const std::string& view, int width_px, int height_px,
-               const OrbitCamera& global_camera);
+               const OrbitCamera& global_camera, double onboard_scale = 1.0);
 /// The onboard camera at the scope tip: at p_WTip_m, forward along the tip segment's axis
 /// (R_WTip's d3), the image's right -d1 and its down -d2 (core/scope_model.h).
 CameraPose tipCameraPose(const Vec3& p_WTip_m, const Mat3& R_WTip);
