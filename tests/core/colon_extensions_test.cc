@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "core/colon_step.h"
+#include "tests/core/colon_energy_check.h"
 #include "fixture.h"
 #include "trainer/assets.h"
 
@@ -178,18 +179,7 @@ ColonModel adult(double EI, double beta) {
 }
 
 TEST(ColonExtensions, EnergyNeverIncreasesWithDamping) {
-  const ColonModel m = adult(0.05, 2500);
-  ColonState s = makeColonState(m);
-  std::mt19937 rng(11);
-  std::normal_distribution<double> n01(0.0, 0.2);
-  for (int i = 0; i < m.n; ++i) s.v.col(i) = Vec3(n01(rng), n01(rng), n01(rng));
-  double e_prev = colonEnergy(m, s).total();
-  for (int k = 0; k < 3000; ++k) {
-    stepColon(m, s, kDt);
-    const double e = colonEnergy(m, s).total();
-    ASSERT_LE(e, e_prev + 1e-12) << "step " << k;
-    e_prev = e;
-  }
+  test::expectEnergyNeverIncreases(adult(0.05, 2500), 3000, kDt);
 }
 
 TEST(ColonExtensions, AdultColonWithBothOnStaysBoundedAtOneMillisecond) {

@@ -1,0 +1,34 @@
+// A check shared by the colon step's tests and its extensions' tests: with damping, the
+// colon's mechanical energy never increases, step after step.
+#pragma once
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/colon_model.h"
+#include "core/colon_state.h"
+#include "core/colon_step.h"
+
+namespace colosim::test {
+
+/// From rest plus a seeded random kick of the control points' velocities (normal, standard
+/// deviation kick_m_per_s [m/s] per component), steps the colon `steps` times at dt_s [s]
+/// and fails at the first step whose total energy exceeds the previous one's by more than
+/// 1e-12 J.
+inline void expectEnergyNeverIncreases(const ColonModel& m, int steps, double dt_s, unsigned seed = 11,
+                                       double kick_m_per_s = 0.2) {
+  ColonState s = makeColonState(m);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01(0.0, kick_m_per_s);
+  for (int i = 0; i < m.n; ++i) s.v.col(i) = Vec3(n01(rng), n01(rng), n01(rng));
+  double e_prev = colonEnergy(m, s).total();
+  for (int k = 0; k < steps; ++k) {
+    stepColon(m, s, dt_s);
+    const double e = colonEnergy(m, s).total();
+    ASSERT_LE(e, e_prev + 1e-12) << "step " << k;
+    e_prev = e;
+  }
+}
+
+}  // namespace colosim::test
