@@ -52,8 +52,9 @@ int runSettle(const RunOptions& o) {
   const SettleSummary s = settleColon(model, o.duration_s > 0 ? o.duration_s : 10.0, o.dt_s);
   std::printf("colosim run settle: adult colon, %d control points over %.3f m, %.1f s at dt = %.4f s (%ld steps)\n",
               s.n_control_points, s.length_m, s.duration_s, s.dt_s, s.steps);
-  if (law) {
-    std::printf("  tension law          %s from %s:", model.tension_law->name().c_str(), o.tension_law.c_str());
+  if (law || params.tension_law) {
+    std::printf("  tension law          %s from %s:", model.tension_law->name().c_str(),
+                law ? o.tension_law.c_str() : params.file.c_str());
     for (const LawParameter& p : model.tension_law->parameters())
       std::printf(" %s = %.4g %s;", p.name.c_str(), p.value, p.unit.c_str());
     std::printf("\n");
