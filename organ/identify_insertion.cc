@@ -10,6 +10,8 @@
 #include <sstream>
 #include <thread>
 
+#include "trainer/tension_law_file.h"
+
 namespace colosim {
 
 namespace {
@@ -532,6 +534,12 @@ void writeOrganParameters(const std::string& path, const std::string& base, cons
   j["colon"]["bending_rigidity"]["source"] = src;
   j["colon"]["mesentery_stiffening"]["value"] = f.params.stiffening_per_m2;
   j["colon"]["mesentery_stiffening"]["source"] = src;
+  // The tension-law effects, with the EA and EC of the base parameters (what the replays ran).
+  const std::optional<ExtendedLawParams> law = organLawParams(loadParameters(base), f.params);
+  if (law)
+    j["colon"]["tension_law"] = tensionLawJson(*law, {}, src);
+  else
+    j["colon"].erase("tension_law");
   std::ofstream out(path);
   if (!out) throw std::runtime_error(path + ": cannot write the file");
   out << j.dump(2) << "\n";

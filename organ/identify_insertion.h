@@ -85,9 +85,10 @@ OrganIdentifyResult identifyInsertion(const InsertionRecording& rec, const Repla
 /// identification: effects, baseline, extended, gain, unexplained, evidence, ...).
 nlohmann::json organIdentifyJson(const InsertionRecording& rec, const OrganIdentifyResult& r);
 
-/// A parameter file (colosim-params) with the identified extensions, for
-/// `colosim run SCENARIO --params FILE` (tension effects: also writes nothing else; their
-/// parameters are in the JSON and a law file can be written from them).
+/// A parameter file (colosim-params): the scenario's parameter file `base_params_path` with
+/// the identified extensions of `fit` - contact.friction_coefficient, colon.bending_rigidity,
+/// colon.mesentery_stiffening, and the tension-law effects as colon.tension_law (removed when
+/// the fit has none) - so that `colosim run SCENARIO --params FILE` simulates the fitted model.
 void writeOrganParameters(const std::string& path, const std::string& base_params_path, const OrganFit& fit,
                           const std::string& source);
 

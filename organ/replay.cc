@@ -62,8 +62,8 @@ ReplaySetup makeReplaySetup(const Scenario& scenario, double spacing_m) {
   return s;
 }
 
-std::shared_ptr<const TensionLaw> organTensionLaw(const Parameters& params, const OrganParams& p) {
-  if (!(p.fung_b > 0) && !(p.relax_g1 > 0) && !(p.soften_d_inf > 0) && !(p.set_ratio > 0)) return nullptr;
+std::optional<ExtendedLawParams> organLawParams(const Parameters& params, const OrganParams& p) {
+  if (!(p.fung_b > 0) && !(p.relax_g1 > 0) && !(p.soften_d_inf > 0) && !(p.set_ratio > 0)) return std::nullopt;
   ExtendedLawParams lp;
   lp.ea_N = params.colon.tension_EA_N;
   lp.ec_Ns = params.colon.tension_EC_Ns;
@@ -85,7 +85,7 @@ std::shared_ptr<const TensionLaw> organTensionLaw(const Parameters& params, cons
     lp.enable("permanent_set");
     lp.set_ratio = p.set_ratio;
   }
-  return std::make_shared<ExtendedTensionLaw>(lp);
+  return lp;
 }
 
 Parameters organParameters(const Parameters& params, const OrganParams& p) {
@@ -93,12 +93,13 @@ Parameters organParameters(const Parameters& params, const OrganParams& p) {
   q.contact.friction_coefficient = p.friction;
   q.colon.bending_EI_Nm2 = p.bending_EI_Nm2;
   q.colon.mesentery_stiffening_per_m2 = p.stiffening_per_m2;
+  q.tension_law = organLawParams(params, p);
   return q;
 }
 
 Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p) {
-  const Parameters params = organParameters(setup.params, p);
-  WorldModel model = loadWorldModel(setup.scenario.anatomy_path, params, organTensionLaw(setup.params, p));
+  // The law comes with the parameter set (Parameters::tension_law), as in `colosim run`.
+  WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
   const double dt = setup.dt_s;
   const ScenarioStart& start = setup.scenario.start;
   // Start state as WorldSimulation builds it from the scenario: settle the colon with the

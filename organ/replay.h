@@ -2,6 +2,7 @@
 // trainer/world_simulation.h) with a chosen set of model extensions.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,9 +52,12 @@ struct ReplaySetup {
 /// spacing and the scope's segment length (a coarser model for the search).
 ReplaySetup makeReplaySetup(const Scenario& scenario, double spacing_m = 0);
 
-/// The tension law of an extension set (nullptr: the parameters' Voigt law).
-std::shared_ptr<const TensionLaw> organTensionLaw(const Parameters& params, const OrganParams& p);
-/// The parameter set of an extension set (friction, bending, stiffening applied).
+/// The extended tension law of an extension set, with the parameters' EA and EC (empty when
+/// no tension-law effect is on: the parameters' Voigt law).
+std::optional<ExtendedLawParams> organLawParams(const Parameters& params, const OrganParams& p);
+/// The parameter set of an extension set: friction, bending, stiffening and the tension law
+/// (Parameters::tension_law, the parameters' own replaced) of `p`. A world built from it
+/// (loadWorldModel with no law) is the model `replayInsertion` simulates.
 Parameters organParameters(const Parameters& params, const OrganParams& p);
 
 /// The simulator's answer at each row of a recording.

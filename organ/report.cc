@@ -3,26 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <vector>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <stdexcept>
+
+#include "core/identify/report.h"
 
 namespace colosim {
 
 namespace {
-
-void writeText(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  if (!out) throw std::runtime_error(p.string() + ": cannot write the file");
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 // The extended model's label, e.g. "extended (colon_bending 0.0228 N m^2)".
 std::string extendedLabel(const OrganIdentifyResult& r) {
@@ -41,28 +27,20 @@ std::string extendedLabel(const OrganIdentifyResult& r) {
 }  // namespace
 
 void writeOrganReport(const std::string& dir, const InsertionRecording& rec, const OrganIdentifyResult& r) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir)) throw std::runtime_error(dir + ": cannot create the report folder");
-  const fs::path d(dir);
   const OrganFit& b = r.baseline;
   const OrganFit& x = r.extended;
-  {
-    std::ofstream out(d / "insertion.dat", std::ios::binary);
-    out << "# predictions include each model's fitted sensor offsets; motion 0 push, 1 hold, 2 pull\n"
-           "# 1 time_s  2 insertion_m  3 motion  4 measured_N  5 paper_N  6 extended_N  7 measured_Nm  8 paper_Nm  "
-           "9 extended_Nm  10 res_paper_N  11 res_extended_N\n";
-    char line[400];
-    for (size_t k = 0; k < rec.rows(); ++k) {
-      const double fb = b.prediction.force_N[k] + b.offset_N, fx = x.prediction.force_N[k] + x.offset_N;
-      const double tb = b.prediction.torque_Nm[k] + b.offset_Nm, tx = x.prediction.torque_Nm[k] + x.offset_Nm;
-      std::snprintf(line, sizeof line, "%.4f %.6f %d %.5f %.5f %.5f %.6f %.6f %.6f %.5f %.5f\n", rec.time_s[k],
-                    rec.input[k].insertion_m, insertionMotion(rec, k), rec.force_N[k], fb, fx, rec.torque_Nm[k], tb,
-                    tx, rec.force_N[k] - fb, rec.force_N[k] - fx);
-      out << line;
-    }
-    if (!out) throw std::runtime_error((d / "insertion.dat").string() + ": cannot write the file");
+  std::string dat =
+      "# predictions include each model's fitted sensor offsets; motion 0 push, 1 hold, 2 pull\n"
+      "# 1 time_s  2 insertion_m  3 motion  4 measured_N  5 paper_N  6 extended_N  7 measured_Nm  8 paper_Nm  "
+      "9 extended_Nm  10 res_paper_N  11 res_extended_N\n";
+  char line[400];
+  for (size_t k = 0; k < rec.rows(); ++k) {
+    const double fb = b.prediction.force_N[k] + b.offset_N, fx = x.prediction.force_N[k] + x.offset_N;
+    const double tb = b.prediction.torque_Nm[k] + b.offset_Nm, tx = x.prediction.torque_Nm[k] + x.offset_Nm;
+    std::snprintf(line, sizeof line, "%.4f %.6f %d %.5f %.5f %.5f %.6f %.6f %.6f %.5f %.5f\n", rec.time_s[k],
+                  rec.input[k].insertion_m, insertionMotion(rec, k), rec.force_N[k], fb, fx, rec.torque_Nm[k], tb, tx,
+                  rec.force_N[k] - fb, rec.force_N[k] - fx);
+    dat += line;
   }
   const std::string ext = extendedLabel(r);
   // Force axes span the 0.5-99.5 % quantiles of the measured force (with a margin): the
@@ -129,12 +107,7 @@ void writeOrganReport(const std::string& dir, const InsertionRecording& rec, con
       "plot 'insertion.dat' u 1:10 w p pt 7 ps 0.3 lc rgb '#d62728' t 'paper', "
       "'' u 1:11 w p pt 7 ps 0.3 lc rgb '#1f77b4' t 'extended'\n"
       "unset multiplot\n";
-  writeText(d / "report.gp", gp);
-  writeText(d / "diagnosis.txt", r.diagnosis);
-  writeText(d / "identify.json", organIdentifyJson(rec, r).dump(2) + "\n");
-  const std::string cmd = "cd " + shellQuote(d.string()) + " && gnuplot report.gp > gnuplot.log 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("gnuplot failed (see " + (d / "gnuplot.log").string() + ")");
+  writeGnuplotReport(dir, {{"insertion.dat", dat}}, gp, r.diagnosis, organIdentifyJson(rec, r));
 }
 
 }  // namespace colosim

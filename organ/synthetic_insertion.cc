@@ -17,7 +17,7 @@ std::pair<double, double> syntheticRange(const std::string& e) {
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 
-SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s) {
+SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles) {
   std::mt19937_64 rng(seed);
   auto U = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
   SyntheticInsertionSpec s;
@@ -37,6 +37,11 @@ SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, d
   s.force_offset_N = U(-0.2, 0.2);
   s.torque_noise_Nm = U(0.001, 0.003);
   s.torque_offset_Nm = U(-0.01, 0.01);
+  if (cycles > 0) {
+    s.cycles = cycles;
+    s.cycle_amplitude_m = U(0.06, 0.10);
+    s.start_insertion_m = U(0.12, 0.18);
+  }
   return s;
 }
 
@@ -56,7 +61,8 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
     HandleInput in;
     const double d1 = s.push_speed_m_per_s * 0.45 * T;
     double ins;
-    if (t < 0.45 * T) ins = s.push_speed_m_per_s * t;
+    if (s.cycles > 0) ins = s.cycle_amplitude_m * (1 - std::cos(2 * M_PI * s.cycles * t / T)) / 2;
+    else if (t < 0.45 * T) ins = s.push_speed_m_per_s * t;
     else if (t < 0.55 * T) ins = d1;
     else if (t < 0.70 * T) ins = d1 - s.pull_back_m * (t - 0.55 * T) / (0.15 * T);
     else ins = d1 - s.pull_back_m + s.push_speed_m_per_s * (t - 0.70 * T);
@@ -89,6 +95,11 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
   std::snprintf(buf, sizeof buf, "force %.4g N sd, offset %+.4g N; torque %.4g N m sd, offset %+.4g N m; tip %.4g m sd",
                 s.force_noise_N, s.force_offset_N, s.torque_noise_Nm, s.torque_offset_Nm, s.tip_noise_m);
   r.metadata.push_back({"sensor_noise", buf});
+  if (s.cycles > 0) {
+    std::snprintf(buf, sizeof buf, "%d insert / withdraw cycles of %.4g m from %.4g m", s.cycles, s.cycle_amplitude_m,
+                  s.start_insertion_m);
+    r.metadata.push_back({"protocol", buf});
+  }
   return r;
 }
 

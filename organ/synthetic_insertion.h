@@ -15,10 +15,15 @@ struct SyntheticInsertionSpec {
   double sample_hz = 100.0;
   std::string effect;              ///< hidden effect ("" for none)
   double value = 0;                ///< its magnitude
-  // The protocol: push at push_speed, a short hold, pull back pull_back_m, push again.
+  // The protocol: push at push_speed, a short hold, pull back pull_back_m, push again; or,
+  // with cycles > 0, that many insert / withdraw cycles of cycle_amplitude_m from the start
+  // depth (insertion start + A (1 - cos(2 pi cycles t / T)) / 2: the colon is stretched,
+  // relieved and stretched again; the cyclic_softening case of the tests).
   double start_insertion_m = 0.12;  ///< the scope starts threaded to this depth [m]
   double push_speed_m_per_s = 0.05;
   double pull_back_m = 0.03;
+  int cycles = 0;                   ///< insert / withdraw cycles (0: push, hold, pull, push)
+  double cycle_amplitude_m = 0.08;  ///< depth pushed and withdrawn in each cycle [m]
   double rotation_amplitude_rad = 0.3;
   double knob_updown_rad = 0.3;
   // Sensors.
@@ -29,9 +34,11 @@ struct SyntheticInsertionSpec {
   uint64_t seed = 1;
 };
 
-/// Draws a spec with seeded std::mt19937_64: the effect (one of `effects`, or none when
-/// `effect_index` < 0), its magnitude from a physiological range, the protocol and the noise.
-SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s);
+/// Draws a spec with seeded std::mt19937_64: the effect (one of organEffectNames(), or none
+/// when `effect_index` < 0), its magnitude from a physiological range, the protocol and the
+/// noise. cycles > 0 selects the cyclic protocol (its amplitude and start depth drawn after
+/// everything else, so the other draws of a seed do not depend on it).
+SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles = 0);
 
 /// The range the magnitude of an effect is drawn from in tests.
 std::pair<double, double> syntheticRange(const std::string& effect);

@@ -1,10 +1,14 @@
 #include "trainer/assets.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 
 #include "trainer/strict_json.h"
+#include "trainer/tension_law_file.h"
 
 #ifndef COLOSIM_ASSET_DIR
 #define COLOSIM_ASSET_DIR "assets"
@@ -80,6 +84,24 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   // Extensions of issue 7 (core/colon_extensions.h); 0 is the paper's model.
   c.bending_EI_Nm2 = colon.quantity("bending_rigidity", "N m^2", 0.0, 10.0);
   c.mesentery_stiffening_per_m2 = colon.quantity("mesentery_stiffening", "1/m^2", 0.0, 1e6);
+  // An identified tension law (optional; trainer/tension_law_file.h): its EA and EC must be
+  // the ones above, so that the file states one axial stiffness.
+  if (colon.has("tension_law")) {
+    JsonObject law = colon.object("tension_law");
+    p.tension_law = readTensionLawObject(law);
+    auto same = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(std::abs(a), std::abs(b)); };
+    char msg[256];
+    if (!same(p.tension_law->ea_N, c.tension_EA_N)) {
+      std::snprintf(msg, sizeof msg, "%.9g N differs from the EA of the parameter set, tension_stiffness_density x "
+                    "tension_reference_length^2 = %.9g N", p.tension_law->ea_N, c.tension_EA_N);
+      law.fail("params.EA_N", msg);
+    }
+    if (!same(p.tension_law->ec_Ns, c.tension_EC_Ns)) {
+      std::snprintf(msg, sizeof msg, "%.9g N s differs from tension_viscosity = %.9g N s", p.tension_law->ec_Ns,
+                    c.tension_EC_Ns);
+      law.fail("params.EC_Ns", msg);
+    }
+  }
   colon.finish();
 
   JsonObject mes = top.object("mesentery");
@@ -191,6 +213,7 @@ ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& par
 
 ColonModel colonModelOf(const Anatomy& anatomy, const std::string& anatomy_file, const Parameters& params,
                         std::shared_ptr<const TensionLaw> law) {
+  if (!law && params.tension_law) law = std::make_shared<ExtendedTensionLaw>(*params.tension_law);
   try {
     return buildColonModel(anatomy, params.colon, std::move(law));
   } catch (const std::invalid_argument& e) {

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "core/colon_model.h"
+#include "core/extended_tension_law.h"
 #include "core/contact.h"
 #include "core/scope_model.h"
 #include "core/world.h"
@@ -17,6 +19,10 @@ struct Parameters {
   ColonParams colon;
   ScopeParams scope;
   ContactParams contact;
+  /// The colon's tension law when it is not the Voigt law of colon.tension_EA_N / EC_Ns
+  /// (colon.tension_law in the file, written by `colosim identify --law-out` on a recorded
+  /// insertion; its EA and EC are those of the parameter set). Empty: the Voigt law.
+  std::optional<ExtendedLawParams> tension_law;
   std::string file;       ///< where it was read from
   uint64_t hash = 0;      ///< FNV-1a of the file's bytes: names the parameter set in sessions
 };
@@ -48,7 +54,8 @@ uint64_t hashBytes(const std::string& bytes);
 namespace colosim {
 /// Builds the colon model of an anatomy file with a parameter set; a mismatch between
 /// the two (an unknown mesentery class, repeated waypoints) is an InputError naming the
-/// anatomy file. `law` replaces the parameters' Voigt law for the tension elements when given.
+/// anatomy file. The tension elements follow `law` when given, else the parameters' law
+/// (Parameters::tension_law, else their Voigt law).
 ColonModel loadColonModel(const std::string& anatomy_path, const Parameters& params,
                           std::shared_ptr<const TensionLaw> law = nullptr);
 /// The colon model of an anatomy already read from `anatomy_file` (loadColonModel without

@@ -191,4 +191,18 @@ HandleInput scriptedInput(const std::vector<Keyframe>& script, double t_s) {
   return in;
 }
 
+Parameters scenarioParameters(const Scenario& scenario) {
+  Parameters params = loadParameters(scenario.params_path);
+  if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
+  if (scenario.overrides.wall_friction) params.contact.friction_coefficient = *scenario.overrides.wall_friction;
+  return params;
+}
+
+std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path) {
+  scenario.params_path = params_path;
+  const std::optional<double> dropped = scenario.overrides.wall_friction;
+  scenario.overrides.wall_friction.reset();
+  return dropped;
+}
+
 }  // namespace colosim

@@ -9,6 +9,7 @@
 
 #include "core/handle_input.h"
 #include "core/spline.h"
+#include "trainer/assets.h"
 #include "trainer/score.h"
 
 namespace colosim {
@@ -82,6 +83,14 @@ std::string resolveScenarioPath(const std::string& name_or_path);
 Scenario findScenario(const std::string& name_or_path);
 /// Names of the shipped scenarios, sorted.
 std::vector<std::string> shippedScenarioNames();
+
+/// The parameters a scenario runs with: its parameter file with its overrides applied
+/// (patient position, wall friction).
+Parameters scenarioParameters(const Scenario& scenario);
+/// Runs the scenario with another parameter file (`colosim run SCENARIO --params FILE`, e.g.
+/// one written by `colosim identify --law-out`): the file states the wall friction to use, so
+/// the scenario's wall_friction override is dropped; its value is returned (empty: none).
+std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path);
 
 /// The scripted handle input at time t_s: linear between keyframes, the first keyframe
 /// before it, the last after it.

@@ -12,8 +12,7 @@ namespace {
 constexpr const char* kFormat = "colosim-tension-law v1";
 }
 
-void writeTensionLawFile(const std::string& path, const ExtendedLawParams& p, const std::vector<double>& sd,
-                         const std::string& source) {
+nlohmann::json tensionLawJson(const ExtendedLawParams& p, const std::vector<double>& sd, const std::string& source) {
   const ExtendedTensionLaw law(p);
   nlohmann::json params = nlohmann::json::object();
   const std::vector<LawParameter> lp = law.parameters();
@@ -22,8 +21,12 @@ void writeTensionLawFile(const std::string& path, const ExtendedLawParams& p, co
     if (i < sd.size() && std::isfinite(sd[i])) q["sd"] = sd[i];
     params[lp[i].name] = q;
   }
-  const nlohmann::json j = {{"format", kFormat}, {"law", law.name()}, {"effects", p.effects()},
-                            {"params", params}, {"source", source}};
+  return {{"format", kFormat}, {"law", law.name()}, {"effects", p.effects()}, {"params", params}, {"source", source}};
+}
+
+void writeTensionLawFile(const std::string& path, const ExtendedLawParams& p, const std::vector<double>& sd,
+                         const std::string& source) {
+  const nlohmann::json j = tensionLawJson(p, sd, source);
   std::ofstream out(path, std::ios::binary);
   if (!out) throw std::runtime_error(path + ": cannot write the file");
   out << j.dump(2) << "\n";
@@ -38,6 +41,10 @@ ExtendedLawParams parseTensionLawFile(const std::string& text, const std::string
   const nlohmann::json j = parseJsonText(text, path);
   if (!j.is_object()) throw InputError(path + ": expected a JSON object");
   JsonObject top(j, path);
+  return readTensionLawObject(top);
+}
+
+ExtendedLawParams readTensionLawObject(JsonObject& top) {
   top.choice("format", {kFormat});
   const std::string name = top.choice("law", {"voigt", "extended"});
   const nlohmann::json& eff = top.raw("effects");
@@ -72,7 +79,7 @@ ExtendedLawParams parseTensionLawFile(const std::string& text, const std::string
   try {
     p.validate();
   } catch (const std::invalid_argument& e) {
-    throw InputError(path + ": " + e.what());
+    top.fail("params", e.what());
   }
   return p;
 }

@@ -12,10 +12,18 @@
 
 #include <memory>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/extended_tension_law.h"
+#include "trainer/strict_json.h"
 
 namespace colosim {
+
+/// The JSON object of a law file (the format above); `sd` as for writeTensionLawFile. A
+/// parameter file carries the same object as colon.tension_law (docs/file-formats.md).
+nlohmann::json tensionLawJson(const ExtendedLawParams& law, const std::vector<double>& sd, const std::string& source);
 
 /// Writes a law file (throws std::runtime_error when it cannot). `sd` gives optional
 /// standard deviations by parameter name (same order as parameters(); may be empty).
@@ -27,6 +35,9 @@ void writeTensionLawFile(const std::string& path, const ExtendedLawParams& law, 
 ExtendedLawParams readTensionLawFile(const std::string& path);
 /// The same from the file's text in memory; `file` names it in messages.
 ExtendedLawParams parseTensionLawFile(const std::string& text, const std::string& file);
+/// The same from a law object being read (a law file's top level, or colon.tension_law of a
+/// parameter file): reads every key and finishes the object.
+ExtendedLawParams readTensionLawObject(JsonObject& law);
 
 /// The law of a file, ready for buildColonModel.
 std::shared_ptr<const TensionLaw> loadTensionLaw(const std::string& path);

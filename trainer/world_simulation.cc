@@ -86,10 +86,11 @@ void placeColonRegion(const ColonModel& colon, ColonState& s, const std::string&
 
 WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law,
                                  const std::string& query_mode)
+    : WorldSimulation(scenario, scenarioParameters(scenario), std::move(law), query_mode) {}
+
+WorldSimulation::WorldSimulation(const Scenario& scenario, const Parameters& params,
+                                 std::shared_ptr<const TensionLaw> law, const std::string& query_mode)
     : dt_s_(scenario.dt_s) {
-  Parameters params = loadParameters(scenario.params_path);
-  if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
-  if (scenario.overrides.wall_friction) params.contact.friction_coefficient = *scenario.overrides.wall_friction;
   model_ = loadWorldModel(scenario.anatomy_path, params, std::move(law));
   query_ = makeContactQuery(model_, query_mode);
   state_ = makeWorldState(model_);

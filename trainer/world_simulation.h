@@ -14,6 +14,7 @@
 namespace colosim {
 
 struct Scenario;
+struct Parameters;
 
 class WorldSimulation : public Simulation {
  public:
@@ -23,6 +24,10 @@ class WorldSimulation : public Simulation {
   /// `law` replaces the parameters' Voigt tension law when given (colosim identify --law-out).
   explicit WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law = nullptr,
                            const std::string& query_mode = "fcl");
+  /// The same with the parameters given instead of scenarioParameters(scenario) (e.g. the
+  /// model an identification fitted, organ/replay.h organParameters).
+  WorldSimulation(const Scenario& scenario, const Parameters& params, std::shared_ptr<const TensionLaw> law = nullptr,
+                  const std::string& query_mode = "fcl");
   /// The same from a world model built elsewhere (tests, identification).
   WorldSimulation(WorldModel model, double dt_s, const HandleInput& start, const std::string& query_mode = "fcl");
 

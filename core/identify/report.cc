@@ -76,25 +76,33 @@ nlohmann::json identifyJson(const TensionTest& t, const IdentifyResult& r) {
   return j;
 }
 
-void writeIdentifyReport(const std::string& dir, const TensionTest& t, const IdentifyResult& r) {
+void writeGnuplotReport(const std::string& dir, const std::vector<ReportFile>& data, const std::string& script,
+                        const std::string& diagnosis, const nlohmann::json& result) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw std::runtime_error(dir + ": cannot create the report folder");
   const fs::path d(dir);
-  {
-    std::ofstream out(d / "identify.dat", std::ios::binary);
-    out << "# time_s elongation_m strain rate_per_s measured_N baseline_N extended_N res_baseline_N res_extended_N "
-           "time_in_hold_s cycle\n";
-    char line[400];
-    for (size_t k = 0; k < t.rows(); ++k) {
-      std::snprintf(line, sizeof line, "%.4f %.6f %.6f %.6g %.4f %.5f %.5f %.5f %.5f %.3f %d\n", t.time_s[k],
-                    t.elongation_m[k], r.strain[k], r.strain_rate_per_s[k], t.force_N[k], r.baseline.prediction_N[k],
-                    r.extended.prediction_N[k], t.force_N[k] - r.baseline.prediction_N[k],
-                    t.force_N[k] - r.extended.prediction_N[k], r.time_in_hold_s[k], r.cycle[k]);
-      out << line;
-    }
-    if (!out) throw std::runtime_error((d / "identify.dat").string() + ": cannot write the file");
+  for (const ReportFile& f : data) writeText(d / f.name, f.text);
+  writeText(d / "report.gp", script);
+  writeText(d / "diagnosis.txt", diagnosis);
+  writeText(d / "identify.json", result.dump(2) + "\n");
+  const std::string cmd = "cd " + shellQuote(d.string()) + " && gnuplot report.gp > gnuplot.log 2>&1";
+  if (std::system(cmd.c_str()) != 0)
+    throw std::runtime_error("gnuplot failed (see " + (d / "gnuplot.log").string() + ")");
+}
+
+void writeIdentifyReport(const std::string& dir, const TensionTest& t, const IdentifyResult& r) {
+  std::string dat =
+      "# time_s elongation_m strain rate_per_s measured_N baseline_N extended_N res_baseline_N res_extended_N "
+      "time_in_hold_s cycle\n";
+  char line[400];
+  for (size_t k = 0; k < t.rows(); ++k) {
+    std::snprintf(line, sizeof line, "%.4f %.6f %.6f %.6g %.4f %.5f %.5f %.5f %.5f %.3f %d\n", t.time_s[k],
+                  t.elongation_m[k], r.strain[k], r.strain_rate_per_s[k], t.force_N[k], r.baseline.prediction_N[k],
+                  r.extended.prediction_N[k], t.force_N[k] - r.baseline.prediction_N[k],
+                  t.force_N[k] - r.extended.prediction_N[k], r.time_in_hold_s[k], r.cycle[k]);
+    dat += line;
   }
   const std::string ext = r.effects.empty() ? "extended (= baseline: no effect)" : "extended (" + [&] {
     std::string s;
@@ -131,12 +139,7 @@ void writeIdentifyReport(const std::string& dir, const TensionTest& t, const Ide
       "plot 'identify.dat' u ($11 + 0.8 * (rand(0) - 0.5)):8 w p pt 7 ps 0.25 lc rgb '#d62728', "
       "'' u ($11 + 0.8 * (rand(0) - 0.5)):9 w p pt 7 ps 0.25 lc rgb '#1f77b4'\n"
       "unset multiplot\n";
-  writeText(d / "report.gp", gp);
-  writeText(d / "diagnosis.txt", r.diagnosis);
-  writeText(d / "identify.json", identifyJson(t, r).dump(2) + "\n");
-  const std::string cmd = "cd " + shellQuote(d.string()) + " && gnuplot report.gp > gnuplot.log 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("gnuplot failed (see " + (d / "gnuplot.log").string() + ")");
+  writeGnuplotReport(dir, {{"identify.dat", dat}}, gp, r.diagnosis, identifyJson(t, r));
 }
 
 }  // namespace colosim

@@ -41,7 +41,9 @@ int runIdentifyInsertion(const IdentifyOptionsCli& o) {
     std::cout << "colosim identify " << o.data << ": insertion, " << rec.rows() << " rows, scenario "
               << rec.scenario << "\n" << r.diagnosis;
     if (!o.law_out.empty())
-      std::cout << "Parameters written to " << o.law_out << " (colosim run " << rec.scenario << " --params FILE)\n";
+      std::cout << "Parameters written to " << o.law_out << " (wall friction, colon bending, lifter stiffening"
+                << (organLawParams(setup.params, r.extended.params) ? " and the tension law as colon.tension_law" : "")
+                << "): colosim run " << rec.scenario << " --params " << o.law_out << "\n";
     if (!o.report.empty()) std::cout << "Report written to " << o.report << "/\n";
   }
   return 0;
@@ -81,7 +83,8 @@ void addIdentifyCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", o->json, "print one JSON object on stdout instead of text");
   cmd->add_option("--report", o->report, "write PNG plots (gnuplot) and the diagnosis into this folder");
   cmd->add_option("--law-out", o->law_out, "write the identified law (JSON) for colosim run --tension-law; for an insertion, the "
-                  "identified parameter file for colosim run SCENARIO --params");
+                  "identified parameter file (friction, bending, lifter stiffening, tension law) for colosim run "
+                  "SCENARIO --params");
   cmd->callback([&action, o] { action = [o]() -> int { return runIdentify(*o); }; });
 }
 

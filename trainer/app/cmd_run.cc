@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "trainer/app/commands.h"
 #include "trainer/app/simulation_factory.h"
@@ -51,8 +52,9 @@ int runSettle(const RunOptions& o) {
   const SettleSummary s = settleColon(model, o.duration_s > 0 ? o.duration_s : 10.0, o.dt_s);
   std::printf("colosim run settle: adult colon, %d control points over %.3f m, %.1f s at dt = %.4f s (%ld steps)\n",
               s.n_control_points, s.length_m, s.duration_s, s.dt_s, s.steps);
-  if (law) {
-    std::printf("  tension law          %s from %s:", model.tension_law->name().c_str(), o.tension_law.c_str());
+  if (law || params.tension_law) {
+    std::printf("  tension law          %s from %s:", model.tension_law->name().c_str(),
+                law ? o.tension_law.c_str() : params.file.c_str());
     for (const LawParameter& p : model.tension_law->parameters())
       std::printf(" %s = %.4g %s;", p.name.c_str(), p.value, p.unit.c_str());
     std::printf("\n");
@@ -79,8 +81,11 @@ void printScores(const nlohmann::json& scores) {
 int runScripted(const RunOptions& o) {
   // Every input is read and checked before any output is opened.
   Scenario scenario = findScenario(o.scenario);
-  // An identified parameter file (colosim identify --law-out on a recorded insertion).
-  if (!o.params.empty()) scenario.params_path = o.params;
+  // Another parameter file, e.g. an identified one (colosim identify --law-out on a recorded
+  // insertion): it states the wall friction (and tension law) to simulate, so the scenario's
+  // wall_friction override gives way to the file's friction_coefficient.
+  std::optional<double> dropped_friction;
+  if (!o.params.empty()) dropped_friction = useParameterFile(scenario, o.params);
   int width = 0, height = 0;
   char extra = 0;
   if (std::sscanf(o.size.c_str(), "%dx%d%c", &width, &height, &extra) != 2 || width < 16 || height < 16 ||
@@ -153,6 +158,20 @@ int runScripted(const RunOptions& o) {
   const Telemetry t = sim.telemetry();
   std::printf("colosim run %s: %ld steps (%.3f s at dt = %g s)\n", scenario.name.c_str(), r.steps,
               r.steps * scenario.dt_s, scenario.dt_s);
+  if (!o.params.empty()) {
+    std::printf("  parameters           %s: wall friction %.4g", o.params.c_str(),
+                sim.model().contact.friction_coefficient);
+    if (dropped_friction) std::printf(" (the scenario's override %.4g not applied)", *dropped_friction);
+    std::printf(", colon bending %.4g N m^2, lifter stiffening %.4g 1/m^2\n", sim.model().colon.bending_EI_Nm2,
+                sim.model().colon.mesentery_stiffening_per_m2);
+  }
+  if (sim.model().colon.tension_law->internalSize() > 0 || !o.tension_law.empty()) {
+    std::printf("  tension law          %s from %s:", sim.model().colon.tension_law->name().c_str(),
+                o.tension_law.empty() ? o.params.c_str() : o.tension_law.c_str());
+    for (const LawParameter& p : sim.model().colon.tension_law->parameters())
+      std::printf(" %s = %.4g %s;", p.name.c_str(), p.value, p.unit.c_str());
+    std::printf("\n");
+  }
   std::printf("  insertion at end     %8.3f m (tip %.3f m from the caecal pole)\n", t.input.insertion_m,
               t.tip_to_caecum_m);
   std::printf("  handle force         peak push %.2f N, peak pull %.2f N, peak torque %.3f N m\n", peak_push,
@@ -191,10 +210,12 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("--query", o->query, "contact queries: fcl, fcl:MANAGER or the paper's scan")
       ->capture_default_str();
   cmd->add_option("--tension-law", o->tension_law,
-                  "tension law file for the colon's tension elements (written by colosim identify --law-out)");
+                  "tension law file for the colon's tension elements (written by colosim identify --law-out on a "
+                  "tension test); replaces the parameter file's colon.tension_law");
   cmd->add_option("--dt", o->dt_s, "time step [s] (settle only)")->check(CLI::Range(1e-5, 1e-2))->capture_default_str();
-  cmd->add_option("--params", o->params, "parameter file (for a scenario: replaces the one it names, e.g. written by colosim identify "
-                  "--law-out on a recorded insertion)");
+  cmd->add_option("--params", o->params, "parameter file (for a scenario: replaces the one it names and its wall_friction "
+                  "override, e.g. written by colosim identify --law-out on a recorded insertion: friction, colon bending, "
+                  "lifter stiffening and tension law)");
   cmd->add_option("--anatomy", o->anatomy, "anatomy file (settle only; scenarios name their own)");
   cmd->callback([&action, o] {
     action = [o]() -> int { return o->scenario == "settle" ? runSettle(*o) : runScripted(*o); };
