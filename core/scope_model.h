@@ -40,6 +40,20 @@ struct ScopeParams {
   /// (ScopeState::limited_segments). The handle's own 10 turns/s is 63 rad/s.
   double max_speed_m_per_s = 5.0;         ///< [m/s]
   double max_spin_rad_per_s = 250.0;      ///< [rad/s]
+  /// The hand's grip on the insertion tube (docs/hardening.md): the largest axial force
+  /// and torque the hand passes to the scope before the tube slides or turns in its
+  /// fingers. Clinical peaks (Appleyard et al. 2000): push ~43 N, pull ~18 N, torque
+  /// ~1 N m; the limits are 2.3 and 5 times those, so a clinical session never reaches
+  /// them. Beyond them the outside part does not follow the handle further that step
+  /// (the actual insertion and rotation lag the command: ScopeState::grip_slip_m, _rad)
+  /// and the handle force and torque stay at the limits.
+  double max_handle_force_N = 100.0;      ///< [N]
+  double max_handle_torque_Nm = 5.0;      ///< [N m]
+  /// Once the force drops, a lagging outside part catches up with the command at most
+  /// this much faster than the command moves: a brisk clinical advance (1-3 cm/s)
+  /// and half a turn a second.
+  double grip_catch_up_m_per_s = 0.05;    ///< [m/s]
+  double grip_catch_up_rad_per_s = 3.14159265358979323846;  ///< [rad/s]
 };
 
 struct ScopeModel {

@@ -33,7 +33,9 @@ struct ScopeState {
   std::vector<Vec3> v_W;   ///< segment centre velocities (K) [m/s]
   std::vector<Vec3> w_W;   ///< segment angular velocities, world (K) [rad/s]
   int inside = 0;          ///< simulated segments: 0 .. inside-1 (the rest are kinematic)
-  HandleInput input;       ///< handle inputs of the last step, after clamping
+  HandleInput input;       ///< the outside part's pose after the last step: the handle inputs, clamped, less the grip slip
+  double grip_slip_m = 0;    ///< commanded minus actual insertion: how far the grip has slipped along the tube [m]
+  double grip_slip_rad = 0;  ///< commanded minus actual rotation [rad]
   double time_s = 0;       ///< [s]
   std::vector<ScopeLoad> loads;  ///< loads for the next step (cleared by the caller)
   HandleReaction handle;   ///< reaction after the last step
@@ -41,11 +43,22 @@ struct ScopeState {
   int limited_segments = 0;        ///< segments slowed to the speed or spin limit in the last step
   double asked_speed_m_per_s = 0;  ///< largest segment speed the last solve asked for, before limiting [m/s]
   double asked_spin_rad_per_s = 0; ///< largest segment spin the last solve asked for, before limiting [rad/s]
+  bool grip_limited = false;         ///< the handle force or torque limit engaged in the last step (the grip slipped)
+  double asked_handle_force_N = 0;   ///< handle force the commanded motion asked for in the last step [N]
+  double asked_handle_torque_Nm = 0; ///< handle torque the commanded motion asked for in the last step [N m]
 
   // Scratch, sized by makeScopeState() so that the step allocates nothing.
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;
+  /// The state at the start of the step, to step again from when the grip slips.
+  struct Start {
+    std::vector<Vec3> p_W, v_W, w_W;
+    std::vector<Mat3> R_WS;
+    int inside = 0;
+    HandleInput input;
+    double time_s = 0;
+  } start;
 };
 
 /// The scope withdrawn (tip at the anus), with scratch sized for the model.

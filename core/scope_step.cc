@@ -25,6 +25,10 @@ ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
   s.system.resize(K);
   s.rhs = Eigen::VectorXd::Zero(6 * K);
   s.force = Eigen::VectorXd::Zero(6 * K);
+  s.start.p_W = s.p_W;
+  s.start.R_WS = s.R_WS;
+  s.start.v_W = s.v_W;
+  s.start.w_W = s.w_W;
   return s;
 }
 
@@ -110,10 +114,10 @@ JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const Han
   return t;
 }
 
-}  // namespace
-
-void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, double dt) {
-  const HandleInput in = clampHandleInput(m, raw_in);
+// The step with the outside part taken to `in` (clamped): everything but the grip.
+// `inside` >= 0 sets the simulated segments instead of the insertion (the grip's trials
+// keep those of the hand's move, so that the reaction stays affine in the move).
+void advance(const ScopeModel& m, ScopeState& s, const HandleInput& in, double dt, int inside_set = -1) {
   const int K = m.segment_count;
   const double h = m.h_m;
   const Vec3 e = m.R_W_entry.col(2);
@@ -122,10 +126,16 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
 
   // Inputs: the part outside moves with the handle; segments that crossed the anus are
   // added to (pushed in) or removed from (withdrawn) the simulated chain.
-  const int inside = std::min(K - 1, static_cast<int>(std::floor(in.insertion_m / h + 1e-9)));
+  const int inside =
+      inside_set >= 0 ? inside_set : std::min(K - 1, static_cast<int>(std::floor(in.insertion_m / h + 1e-9)));
+  // A segment that crosses the anus this step joins from where it was at the start of the
+  // step (its kinematic pose of the last inputs) with the handle's velocity, like the
+  // simulated segments: the integration below carries it on. (Placed at the new inputs'
+  // pose and then integrated, it ran dt * speed ahead of its base: 0.7 mm at 1 m/s, which
+  // the 2e6 N/m joint read as a pull of up to 495 N on the handle in extreme_all.)
   for (int k = std::min(inside, s.inside); k < K; ++k) {
     if (k < inside && k < s.inside) continue;
-    kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
+    if (k >= inside) kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
     s.v_W[k] = insertion_rate * e;
     s.w_W[k] = rotation_rate * e;
   }
@@ -138,6 +148,13 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
     const Vec3 joint_W = s.p_W[k] - 0.5 * h * s.R_WS[k].col(2);  // proximal end: fixed
     s.R_WS[k] = s.R_WS[k] * expSO3(half);
     s.p_W[k] = joint_W + 0.5 * h * s.R_WS[k].col(2);
+  }
+  // The tip joins bent as the knobs hold it (at its joint's rest rotation), or it is
+  // flung by the whole bending moment at once (0.7 N m on 3 g with the knobs at a stop).
+  if (s.inside == 0 && inside > 0) {
+    const Vec3 joint_W = s.p_W[0] - 0.5 * h * s.R_WS[0].col(2);
+    s.R_WS[0] = s.R_WS[0] * expSO3(restJointRotation(m, 0, in));
+    s.p_W[0] = joint_W + 0.5 * h * s.R_WS[0].col(2);
   }
   s.inside = inside;
   s.input = in;
@@ -167,11 +184,14 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
   }
 
   const double beta = m.params.joint_damping_s;
+  Vec6 base_f0 = Vec6::Zero(), base_u0 = Vec6::Zero();  // the last joint's force on the base, the distal segment's velocity, at the start
+  Mat6 base_K = Mat6::Zero();  // the last joint's stiffness block (base row, distal segment column)
   const double sys_k = dt * beta + dt * dt;  // dt C + dt^2 K with C = beta K
   for (int k = 0; k < inside; ++k) {  // joint k joins segment k and k+1 (k+1 == inside: the base)
     const JointTerms t = jointTerms(m, s, k, in);
     const bool proximal_simulated = (k + 1 < inside);
     const Vec6 uk = stacked(s.v_W[k], s.w_W[k]);
+    if (!proximal_simulated) base_f0 = t.f_proximal, base_K = t.K_dp.transpose(), base_u0 = uk;
     for (int c = 0; c < 6; ++c) f[6 * k + c] += t.f_distal(c);
     s.system.diag(k) += sys_k * t.K_dd;
     Vec6 Ku_k = t.K_dd * uk;
@@ -245,14 +265,113 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
     orthonormalize(s.R_WS[k]);
   }
 
-  // The handle: what the operator applies to keep the outside part on its commanded
-  // path balances what the last joint applies to it.
-  const JointTerms t = jointTerms(m, s, inside - 1, in);
-  const Vec3 f_on_base = t.f_proximal.head<3>();
-  const Vec3 tau_on_base = t.f_proximal.tail<3>();
-  s.handle.force_W = f_on_base;
-  s.handle.force_N = -f_on_base.dot(e);
-  s.handle.torque_Nm = -tau_on_base.dot(e);
+  // The handle: what the operator applies to keep the outside part on its commanded path
+  // balances what the last joint applied to it over the step -- the backward-Euler force
+  // of the solve, f0 + df/dx dt u + df/du (u - u0), with the distal segment's new velocity
+  // u (after the limits), the one the chain's momentum took. (The joint penalty evaluated
+  // at the new state instead adds the linearisation error of one step's rotation: a segment
+  // at the anus tilted 0.5 rad and spun 0.1 rad per step opens the 2e6 N/m joint by ~40 um,
+  // 80 N on the handle for one step, which the next steps relax.)
+  const int j = inside - 1;
+  const Vec6 u_new = stacked(s.v_W[j], s.w_W[j]);
+  const Vec6 f_on_base = base_f0 - base_K * ((dt + beta) * u_new - beta * base_u0);
+  s.handle.force_W = f_on_base.head<3>();
+  s.handle.force_N = -f_on_base.head<3>().dot(e);
+  s.handle.torque_Nm = -f_on_base.tail<3>().dot(e);
+}
+
+void saveStart(ScopeState& s) {
+  ScopeState::Start& a = s.start;
+  std::copy(s.p_W.begin(), s.p_W.end(), a.p_W.begin());
+  std::copy(s.R_WS.begin(), s.R_WS.end(), a.R_WS.begin());
+  std::copy(s.v_W.begin(), s.v_W.end(), a.v_W.begin());
+  std::copy(s.w_W.begin(), s.w_W.end(), a.w_W.begin());
+  a.inside = s.inside;
+  a.input = s.input;
+  a.time_s = s.time_s;
+}
+
+void restoreStart(ScopeState& s) {
+  const ScopeState::Start& a = s.start;
+  std::copy(a.p_W.begin(), a.p_W.end(), s.p_W.begin());
+  std::copy(a.R_WS.begin(), a.R_WS.end(), s.R_WS.begin());
+  std::copy(a.v_W.begin(), a.v_W.end(), s.v_W.begin());
+  std::copy(a.w_W.begin(), a.w_W.end(), s.w_W.begin());
+  s.inside = a.inside;
+  s.input = a.input;
+  s.time_s = a.time_s;
+}
+
+bool withinGrip(const ScopeParams& p, const HandleReaction& r, double fraction = 1.0) {
+  return !(std::abs(r.force_N) > fraction * p.max_handle_force_N) &&
+         !(std::abs(r.torque_Nm) > fraction * p.max_handle_torque_Nm);
+}
+
+// The move x (from the start) that keeps y(x) = y0 + slope x within +-limit, nearest
+// `wanted` (a Coulomb grip: the tube slides either way through the fingers); held still
+// when the slope is not positive (pushing further must push harder).
+double moveWithin(double wanted, double y0, double slope, double limit) {
+  if (!(slope > 0) || !std::isfinite(y0)) return 0.0;
+  return std::clamp(wanted, (-limit - y0) / slope, (limit - y0) / slope);
+}
+
+}  // namespace
+
+void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, double dt) {
+  const HandleInput cmd = clampHandleInput(m, raw_in);
+  const ScopeParams& p = m.params;
+  const double max_insertion = (m.segment_count - 1) * m.h_m;
+  // Inputs: where the hand takes the outside part this step. Exactly the command unless
+  // the grip has slipped; then the command's own motion plus a bounded catch-up of the slip.
+  HandleInput target = cmd;
+  const double catch_m = p.grip_catch_up_m_per_s * dt, catch_rad = p.grip_catch_up_rad_per_s * dt;
+  if (std::abs(s.grip_slip_m) > catch_m)
+    target.insertion_m = std::clamp(cmd.insertion_m - s.grip_slip_m + std::copysign(catch_m, s.grip_slip_m), 0.0,
+                                    max_insertion);
+  if (std::abs(s.grip_slip_rad) > catch_rad)
+    target.rotation_rad = cmd.rotation_rad - s.grip_slip_rad + std::copysign(catch_rad, s.grip_slip_rad);
+
+  saveStart(s);
+  advance(m, s, target, dt);
+  s.asked_handle_force_N = s.handle.force_N;
+  s.asked_handle_torque_Nm = s.handle.torque_Nm;
+  s.grip_limited = !withinGrip(p, s.handle);
+  if (s.grip_limited) {
+    // Limit: the grip slips. The handle reaction is nearly affine in the outside part's
+    // move over one step (the joint penalty through one linear solve): measured with the
+    // outside part held still and with small probe moves, the move that keeps the force
+    // and torque at 99 % of the limits (nearest the hand's) is solved for and the step
+    // taken again from the start with it, refined by secant steps if the reaction was
+    // not quite affine. Up to 8 steps in all, only while the grip slips.
+    const double L0 = s.start.input.insertion_m, phi0 = s.start.input.rotation_rad;
+    const int inside_hand = s.inside;
+    auto trial = [&](double dL, double dphi) {
+      restoreStart(s);
+      HandleInput in = target;
+      in.insertion_m = std::clamp(L0 + dL, 0.0, max_insertion);
+      in.rotation_rad = phi0 + dphi;
+      advance(m, s, in, dt, inside_hand);
+      return s.handle;
+    };
+    const double want_L = target.insertion_m - L0, want_phi = target.rotation_rad - phi0;
+    const double probe_m = 1e-5, probe_rad = 1e-4;  // small enough to stay affine
+    const HandleReaction held = trial(0, 0);
+    const double F0 = held.force_N, T0 = held.torque_Nm;
+    double slope_F = (trial(probe_m, 0).force_N - F0) / probe_m;
+    double slope_T = (trial(0, probe_rad).torque_Nm - T0) / probe_rad;
+    const double F_lim = 0.99 * p.max_handle_force_N, T_lim = 0.99 * p.max_handle_torque_Nm;
+    double dL = moveWithin(want_L, F0, slope_F, F_lim), dphi = moveWithin(want_phi, T0, slope_T, T_lim);
+    HandleReaction r = trial(dL, dphi);
+    for (int iter = 0; iter < 3 && !withinGrip(p, r) && std::isfinite(r.force_N) && std::isfinite(r.torque_Nm); ++iter) {
+      if (std::abs(dL) > 1e-12) slope_F = (r.force_N - F0) / dL;
+      if (std::abs(dphi) > 1e-12) slope_T = (r.torque_Nm - T0) / dphi;
+      dL = moveWithin(want_L, F0, slope_F, F_lim);
+      dphi = moveWithin(want_phi, T0, slope_T, T_lim);
+      r = trial(dL, dphi);
+    }
+  }
+  s.grip_slip_m = cmd.insertion_m - s.input.insertion_m;
+  s.grip_slip_rad = cmd.rotation_rad - s.input.rotation_rad;
 }
 
 double scopeKineticEnergy(const ScopeModel& m, const ScopeState& s) {
@@ -275,6 +394,8 @@ std::vector<double> getScopeState(const ScopeState& s) {
   out.push_back(s.input.rotation_rad);
   out.push_back(s.input.knob_updown_rad);
   out.push_back(s.input.knob_leftright_rad);
+  out.push_back(s.grip_slip_m);
+  out.push_back(s.grip_slip_rad);
   for (size_t k = 0; k < K; ++k) {
     out.insert(out.end(), s.p_W[k].data(), s.p_W[k].data() + 3);
     out.insert(out.end(), s.R_WS[k].data(), s.R_WS[k].data() + 9);
@@ -286,9 +407,9 @@ std::vector<double> getScopeState(const ScopeState& s) {
 
 void setScopeState(const std::vector<double>& snap, ScopeState& s) {
   const size_t K = s.p_W.size();
-  if (snap.size() != 6 + K * 18)
+  if (snap.size() != 8 + K * 18)
     throw std::invalid_argument("scope state snapshot has " + std::to_string(snap.size()) +
-                                " values, expected " + std::to_string(6 + K * 18));
+                                " values, expected " + std::to_string(8 + K * 18));
   size_t i = 0;
   s.time_s = snap[i++];
   s.inside = static_cast<int>(snap[i++]);
@@ -296,6 +417,8 @@ void setScopeState(const std::vector<double>& snap, ScopeState& s) {
   s.input.rotation_rad = snap[i++];
   s.input.knob_updown_rad = snap[i++];
   s.input.knob_leftright_rad = snap[i++];
+  s.grip_slip_m = snap[i++];
+  s.grip_slip_rad = snap[i++];
   for (size_t k = 0; k < K; ++k) {
     std::memcpy(s.p_W[k].data(), &snap[i], 3 * sizeof(double)); i += 3;
     std::memcpy(s.R_WS[k].data(), &snap[i], 9 * sizeof(double)); i += 9;

@@ -21,6 +21,13 @@ namespace colosim {
 /// model.params.max_speed_m_per_s or max_spin_rad_per_s is slowed to it (counted in
 /// state.limited_segments); a failed factorisation or a non-finite solve sets
 /// state.solver_ok = false and stops the inside segments for the step (no NaN carried on).
+/// The grip: when the handle force or torque would exceed model.params.max_handle_force_N
+/// or max_handle_torque_Nm, the outside part moves only as far as keeps them at 99 % of
+/// the limits (the step is taken again from its start, up to 8 times); the command minus
+/// the actual insertion and rotation is kept in state.grip_slip_m, _rad and caught up at
+/// grip_catch_up_m_per_s, _rad_per_s; state.grip_limited says so, asked_handle_force_N
+/// and asked_handle_torque_Nm what the command asked. state.handle is the backward-Euler
+/// force of the last joint on the outside part over the step.
 void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s);
 
 /// Rest relative rotation of joint k (between segment k and k+1) for the knob angles [rad].

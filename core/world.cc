@@ -65,6 +65,7 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
   in.rotation_rad = rotation_rad;
   ScopeState& sc = s.scope;
   sc.input = in;
+  sc.grip_slip_m = sc.grip_slip_rad = 0;
   sc.inside = std::min(scope.segment_count - 1, static_cast<int>(std::floor(depth / scope.h_m + 1e-9)));
   // Frames carried along the centreline by the rotation between consecutive axes
   // (parallel transport), starting from the entry frame turned by the handle.
@@ -92,7 +93,7 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
 
 int limitedCount(const WorldState& s) {
   return s.contact_limit.limited + s.contact_limit.non_finite + s.colon.limited_points + s.scope.limited_segments +
-         (s.colon.solver_ok ? 0 : 1) + (s.scope.solver_ok ? 0 : 1);
+         (s.colon.solver_ok ? 0 : 1) + (s.scope.solver_ok ? 0 : 1) + (s.scope.grip_limited ? 1 : 0);
 }
 
 uint64_t hashWorldState(const WorldState& s) {

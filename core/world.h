@@ -38,7 +38,7 @@ struct WorldState {
 
 /// How many quantities the solver limits changed in the last step (docs/hardening.md):
 /// contact forces scaled down or dropped, scope segments and colon control points slowed,
-/// failed or non-finite solves. 0 in a step the solvers kept up with.
+/// failed or non-finite solves, the handle force or torque limited (the grip slipped). 0 in a step the solvers kept up with.
 int limitedCount(const WorldState& state);
 
 WorldState makeWorldState(const WorldModel& model);

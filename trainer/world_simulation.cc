@@ -149,17 +149,19 @@ void WorldSimulation::updateLimitEvents() {
   const WorldState& s = state_;
   if (!s.colon.solver_ok) events_.push_back({"solver_failed_colon", "the colon solve failed or gave non-finite values: its velocities were set to zero"});
   if (!s.scope.solver_ok) events_.push_back({"solver_failed_scope", "the scope solve failed or gave non-finite values: its velocities were set to zero"});
-  char buf[512];
+  char buf[768];
   if (telemetry_.solver_limited == 0) {
     if (limited_run_steps_ > 0) {
       std::snprintf(buf, sizeof buf,
                     "after %ld steps; largest asked: contact force %.4g N, scope %.4g m/s and "
-                    "%.4g rad/s, colon %.4g m/s",
-                    limited_run_steps_, run_force_N_, run_scope_speed_, run_scope_spin_, run_colon_speed_);
+                    "%.4g rad/s, colon %.4g m/s, handle force %.4g N and torque %.4g N m; grip slip %.4g m, %.4g rad",
+                    limited_run_steps_, run_force_N_, run_scope_speed_, run_scope_spin_, run_colon_speed_,
+                    run_handle_force_N_, run_handle_torque_Nm_, s.scope.grip_slip_m, s.scope.grip_slip_rad);
       events_.push_back({"solver_limited_end", buf});
     }
     limited_run_steps_ = 0;
     run_force_N_ = run_scope_speed_ = run_scope_spin_ = run_colon_speed_ = 0;
+    run_handle_force_N_ = run_handle_torque_Nm_ = 0;
     return;
   }
   if (limited_run_steps_ == 0) {
@@ -167,11 +169,14 @@ void WorldSimulation::updateLimitEvents() {
     std::snprintf(buf, sizeof buf,
                   "contact forces limited %d (asked %.4g N, limit %.4g N), dropped non-finite %d; "
                   "scope segments slowed %d (asked %.4g m/s, %.4g rad/s; limits %.4g m/s, %.4g rad/s); colon points "
-                  "slowed %d (asked %.4g m/s, limit %.4g m/s); failed solves: colon %d, scope %d",
+                  "slowed %d (asked %.4g m/s, limit %.4g m/s); failed solves: colon %d, scope %d; handle grip "
+                  "slipped %d (asked %.4g N, limit %.4g N; asked %.4g N m, limit %.4g N m)",
                   c.limited, c.asked_N, model_.contact.max_point_force_N, c.non_finite, s.scope.limited_segments,
                   s.scope.asked_speed_m_per_s, s.scope.asked_spin_rad_per_s, model_.scope.params.max_speed_m_per_s,
                   model_.scope.params.max_spin_rad_per_s, s.colon.limited_points, s.colon.asked_speed_m_per_s,
-                  model_.colon.max_speed_m_per_s, s.colon.solver_ok ? 0 : 1, s.scope.solver_ok ? 0 : 1);
+                  model_.colon.max_speed_m_per_s, s.colon.solver_ok ? 0 : 1, s.scope.solver_ok ? 0 : 1,
+                  s.scope.grip_limited ? 1 : 0, s.scope.asked_handle_force_N, model_.scope.params.max_handle_force_N,
+                  s.scope.asked_handle_torque_Nm, model_.scope.params.max_handle_torque_Nm);
     events_.push_back({"solver_limited", buf});
   }
   ++limited_run_steps_;
@@ -179,6 +184,10 @@ void WorldSimulation::updateLimitEvents() {
   run_scope_speed_ = std::max(run_scope_speed_, s.scope.asked_speed_m_per_s);
   run_scope_spin_ = std::max(run_scope_spin_, s.scope.asked_spin_rad_per_s);
   run_colon_speed_ = std::max(run_colon_speed_, s.colon.asked_speed_m_per_s);
+  if (s.scope.grip_limited) {
+    run_handle_force_N_ = std::max(run_handle_force_N_, std::abs(s.scope.asked_handle_force_N));
+    run_handle_torque_Nm_ = std::max(run_handle_torque_Nm_, std::abs(s.scope.asked_handle_torque_Nm));
+  }
 }
 
 std::vector<Vec3> WorldSimulation::scopeCentreline() const {

@@ -67,6 +67,7 @@ class WorldSimulation : public Simulation {
   // The current run of limited steps: its length and the largest values asked in it.
   long limited_run_steps_ = 0;
   double run_force_N_ = 0, run_scope_speed_ = 0, run_scope_spin_ = 0, run_colon_speed_ = 0;
+  double run_handle_force_N_ = 0, run_handle_torque_Nm_ = 0;  // largest |handle force, torque| asked in the run
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
 };

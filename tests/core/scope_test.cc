@@ -1,5 +1,7 @@
 #include "core/scope_step.h"
 
+#include <algorithm>
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -193,6 +195,81 @@ TEST(Scope, NonFiniteSolveStopsTheSegmentsAndFastOnesAreSlowed) {
   for (int k = 0; k < s.inside; ++k) {
     EXPECT_LE(s.v_W[k].norm(), m.params.max_speed_m_per_s * (1 + 1e-12));
     EXPECT_LE(s.w_W[k].norm(), m.params.max_spin_rad_per_s * (1 + 1e-12));
+  }
+}
+
+// The grip (ScopeParams::max_handle_force_N, max_handle_torque_Nm): the tip jammed against a
+// fixed obstacle (a stiff spring, 1e5 N/m, holding it where it is) while the hand pushes on
+// at 1 m/s. Without a limit the scope would buckle against 1e5 N/m; with it the handle
+// force stays at the limit, the actual insertion lags the command, and once the hand stops
+// pushing and the obstacle gives way the insertion catches up at the catch-up speed.
+TEST(Scope, JammedTipPushedOnTheGripSlipsAndTheForceStaysAtTheLimit) {
+  const ScopeModel m = freeScope();
+  ScopeState s = insertAndHold(m, 0.30, 0.6, 0.2);
+  const Vec3 p_jam = tipPosition(m, s);
+  const double k_obstacle = 1e5;  // [N/m]
+  auto jam = [&](ScopeState& st) {  // the obstacle's force on the tip segment, implicit in its stiffness
+    st.loads.clear();
+    ScopeLoad l;
+    l.segment = 0;
+    l.r_W = 0.5 * m.h_m * st.R_WS[0].col(2);
+    l.force_N = -k_obstacle * (tipPosition(m, st) - p_jam);
+    l.stiffness_N_per_m = k_obstacle * Mat3::Identity();
+    st.loads.push_back(l);
+  };
+  HandleInput in;
+  in.insertion_m = 0.30;
+  double largest = 0, largest_torque = 0;
+  int limited = 0;
+  for (int k = 1; k <= 200; ++k) {  // 0.2 s at 1 m/s: 20 cm more commanded
+    in.insertion_m = 0.30 + 1.0 * k * kDt;
+    in.rotation_rad = 20.0 * k * kDt;  // and twisted at 20 rad/s against the jam
+    jam(s);
+    stepScope(m, s, in, kDt);
+    ASSERT_TRUE(std::isfinite(s.handle.force_N) && std::isfinite(s.handle.torque_Nm));
+    largest = std::max(largest, std::abs(s.handle.force_N));
+    largest_torque = std::max(largest_torque, std::abs(s.handle.torque_Nm));
+    if (s.grip_limited) {
+      ++limited;
+      EXPECT_GT(std::max(std::abs(s.asked_handle_force_N) / m.params.max_handle_force_N,
+                         std::abs(s.asked_handle_torque_Nm) / m.params.max_handle_torque_Nm),
+                1.0);
+    }
+    EXPECT_NEAR(s.grip_slip_m, in.insertion_m - s.input.insertion_m, 1e-15);
+  }
+  EXPECT_GT(limited, 100);
+  EXPECT_LE(largest, m.params.max_handle_force_N * 1.001);
+  EXPECT_LE(largest_torque, m.params.max_handle_torque_Nm * 1.001);
+  EXPECT_GT(largest, 0.9 * m.params.max_handle_force_N);  // it did push as hard as the grip allows
+  const double lag = s.grip_slip_m;
+  EXPECT_GT(lag, 0.1);  // most of the 20 cm were not taken up
+  // The obstacle gives way, the hand holds still: the insertion catches up, no faster than
+  // the catch-up speed, until it meets the command.
+  double prev = s.input.insertion_m;
+  for (int k = 0; k < 5000 && s.grip_slip_m > 0; ++k) {
+    s.loads.clear();
+    stepScope(m, s, in, kDt);
+    EXPECT_LE(s.input.insertion_m - prev, m.params.grip_catch_up_m_per_s * kDt * (1 + 1e-9));
+    EXPECT_LE(std::abs(s.handle.force_N), m.params.max_handle_force_N * 1.001);
+    prev = s.input.insertion_m;
+  }
+  EXPECT_EQ(s.grip_slip_m, 0.0);
+  EXPECT_EQ(s.input.insertion_m, in.insertion_m);
+}
+
+// Below the grip's limits nothing slips: the outside part is exactly where the hand puts it.
+TEST(Scope, FreeInsertionNeverSlips) {
+  const ScopeModel m = freeScope();
+  ScopeState s = makeScopeState(m);
+  HandleInput in;
+  for (int k = 1; k <= 400; ++k) {
+    in.insertion_m = 0.5 * k * kDt;
+    in.rotation_rad = 2.0 * k * kDt;
+    stepScope(m, s, in, kDt);
+    ASSERT_FALSE(s.grip_limited);
+    ASSERT_EQ(s.input.insertion_m, in.insertion_m);
+    ASSERT_EQ(s.input.rotation_rad, in.rotation_rad);
+    ASSERT_EQ(s.grip_slip_m, 0.0);
   }
 }
 

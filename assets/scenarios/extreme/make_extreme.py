@@ -19,7 +19,7 @@ def swing(t0, t1, half_period, amp, start_sign=1):
         pts.append((round(t, 6), s * amp)); s = -s; t += half_period
     pts.append((t1, 0.0))
     return pts
-def scenario(name, desc, duration, signals, notes={}):
+def scenario(name, desc, duration, signals, notes={}, overrides=None):
     times = sorted(set(round(t, 6) for sig in signals.values() for t in sig[1] if t <= duration) | {0.0})
     script = []
     for t in times:
@@ -34,6 +34,7 @@ def scenario(name, desc, duration, signals, notes={}):
     sc = {"format": "colosim-scenario", "version": 1, "name": name, "description": desc,
           "anatomy": "anatomy/adult.json", "params": "params/default.json", "dt_s": 0.001,
           "duration_s": duration, "seed": 1, "start": {"kind": "rest"}, "script": script}
+    if overrides: sc = {**{k: v for k, v in sc.items() if k != "script"}, "overrides": overrides, "script": script}
     with open(f"assets/scenarios/extreme/{name}.json", "w") as f:
         f.write("{\n")
         items = [(k, v) for k, v in sc.items() if k != "script"]
@@ -69,3 +70,8 @@ scenario("extreme_all", "Hardening (issue 8): everything at once: the scope push
                "rotation_rad": pw([(0, 0), (0.5, W / 2), (1.0, 0), (1.5, W / 2), (2.0, 0), (2.5, W / 2), (3.0, 0)]),
                "knob_updown_rad": pw(swing(0.0, 3.1, 0.05, PI)), "knob_leftright_rad": pw(swing(0.0, 3.1, 0.08, LR, -1))},
          {1.55: "1.55 m in: withdrawing"})
+# 5. the grip: pushed at 1 m/s against sticky walls (friction coefficient 1): the handle
+#    force reaches ScopeParams::max_handle_force_N and the grip slips, both ways (see
+#    docs/hardening.md: pushing, and pulled in at the anus after segments join).
+scenario("extreme_jam", "Hardening (issue 8): the scope pushed at 1 m/s to 1.2 m against sticky walls (friction coefficient 1): the handle force reaches the grip's limit (100 N) and the grip slips (the actual insertion differs from the command).",
+         1.2, {"insertion_m": pw([(0, 0), (1.2, 1.2)])}, {}, {"wall_friction": 1.0})
