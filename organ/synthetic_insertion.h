@@ -10,7 +10,10 @@
 namespace colosim {
 
 struct SyntheticInsertionSpec {
-  std::string scenario = "free_insertion";
+  /// The bench's scenario: the attached-rectum free_insertion, on which the hidden-effect
+  /// tests and the shipped recording were validated (free_insertion itself now has a
+  /// pelvic rectum).
+  std::string scenario = "free_insertion_attached_rectum";
   double duration_s = 4.0;
   double sample_hz = 100.0;
   std::string effect;              ///< hidden effect ("" for none)

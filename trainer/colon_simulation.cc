@@ -23,9 +23,16 @@ double mesenteryStretch(const ColonModel& model, const ColonState& state) {
     model.mesentery_K.multiply(d.data(), f.data());
     for (int i = 0; i < model.n; ++i) force(c, i) = f[i];
   }
+  // Pelvic points: a segment of point i's support (its lifter row, segments i-2..i+1) is
+  // in a "pelvic" region.
+  auto pelvic = [&model](int i) {
+    for (int j = std::max(0, i - 2); j <= std::min(model.n - 2, i + 1); ++j)
+      if (model.region_mesentery[model.segment_region[j]] == "pelvic") return true;
+    return false;
+  };
   double largest = 0.0;
   for (int i = 0; i < model.n; ++i)
-    largest = std::max(largest, force.col(i).norm() / (model.mass_rowsum_kg(i) * g_m_per_s2));
+    if (!pelvic(i)) largest = std::max(largest, force.col(i).norm() / (model.mass_rowsum_kg(i) * g_m_per_s2));
   return largest;
 }
 

@@ -16,7 +16,9 @@ namespace colosim {
 /// force on the point, |(K (q - q0))_i| with K the mesentery stiffness matrix (eq. 4),
 /// over the weight the point carries, (M 1)_i g. It is the lifter force per unit length
 /// over the colon's weight per unit length: about 1 where the attachments just carry the
-/// hanging colon (Telemetry::mesentery_stretch). 0 without gravity.
+/// hanging colon (Telemetry::mesentery_stretch). 0 without gravity. Points held only by
+/// the "pelvic" class (the extraperitoneal rectum, fixed in the pelvis, not on a
+/// mesentery: 20x stiffer, so a millimetre there would read as a large stretch) are left out.
 double mesenteryStretch(const ColonModel& model, const ColonState& state);
 
 class ColonOnlySimulation : public Simulation {

@@ -18,6 +18,9 @@ struct Telemetry {
   double wall_force_peak_N = 0.0; ///< largest single scope-wall contact force this step [N]
   Vec3 tip_position_m = Vec3::Zero();  ///< scope tip in the patient frame [m]
   double tip_to_caecum_m = 1e9;   ///< distance from the tip to the caecal pole [m]
+  /// How far along the colon the tip is [m]: the rest arclength from the anus of the colon
+  /// location nearest the tip (the colon's rest length at the caecal pole; 0 outside).
+  double tip_arclength_m = 0.0;
   /// Mesentery stretch, the discomfort source [-]: the largest, over the colon's control
   /// points, of the mesentery lifter force on the point over the weight the point carries
   /// (lifter force per unit length over weight per unit length; mesenteryStretch in

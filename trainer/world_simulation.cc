@@ -263,6 +263,7 @@ void WorldSimulation::measure() {
   t.tip_against_wall = ahead.distance > colon.radiusAt(ahead.segment, ahead.p);
   const ClosestPoint here = nearestAround(s.colon.q, tracked, tip);
   const double s_here = colon.arclengthAt(here.segment, here.p);
+  t.tip_arclength_m = s_here;
   // The centreline point kLumenLookahead_m further towards the caecum (rest arclength).
   const double s_target = std::min(s_here + kLumenLookahead_m, colon.length_m());
   int jt = here.segment;

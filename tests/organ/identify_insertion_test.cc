@@ -28,7 +28,7 @@ class HiddenOrganEffect : public ::testing::TestWithParam<Case> {};
 
 TEST_P(HiddenOrganEffect, IsNamedWithAHeldOutGainOrTheAnswerIsEmpty) {
   const Case c = GetParam();
-  const ReplaySetup setup = makeReplaySetup(findScenario("free_insertion"), 0.03);
+  const ReplaySetup setup = makeReplaySetup(findScenario("free_insertion_attached_rectum"), 0.03);
   const SyntheticInsertionSpec spec = drawSyntheticInsertion(c.seed, c.effect_index, c.duration_s, c.cycles);
   const InsertionRecording rec = makeSyntheticInsertion(setup, spec);
   const OrganIdentifyResult r = identifyInsertion(rec, setup);
@@ -56,7 +56,7 @@ INSTANTIATE_TEST_SUITE_P(Organ, HiddenOrganEffect,
 
 TEST(OrganIdentify, AReplayOnAnotherThreadIsBitIdentical) {
   // The search runs replays on two threads: each must not depend on where it runs.
-  const ReplaySetup setup = makeReplaySetup(findScenario("free_insertion"), 0.03);
+  const ReplaySetup setup = makeReplaySetup(findScenario("free_insertion_attached_rectum"), 0.03);
   const InsertionRecording rec = makeSyntheticInsertion(setup, drawSyntheticInsertion(7, 0, 0.5));
   OrganParams p;
   p.friction = 0.2;

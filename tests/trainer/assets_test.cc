@@ -39,7 +39,7 @@ TEST(Assets, ShippedFilesLoad) {
   const Parameters p = loadParameters(test::asset("params/default.json"));
   EXPECT_NEAR(p.colon.tension_EA_N, 892 * 0.18 * 0.18, 1e-9);
   EXPECT_EQ(p.colon.mass_per_length_kg_per_m, 0.4);
-  EXPECT_EQ(p.colon.mesentery.size(), 2u);
+  EXPECT_EQ(p.colon.mesentery.size(), 3u);  // pelvic, attached, free
   EXPECT_NE(p.hash, 0u);
   const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
   EXPECT_EQ(a.regions.front().name, "rectum");

@@ -21,7 +21,8 @@ namespace {
 struct ScenarioRun {
   nlohmann::json scores;
   std::vector<double> time_s, loop_turns;  // every step
-  double peak_push_N = 0, peak_torque_Nm = 0, min_tip_to_caecum_m = 1e9;
+  double peak_push_N = 0, peak_pull_N = 0, peak_torque_Nm = 0, min_tip_to_caecum_m = 1e9;
+  double max_tip_arclength_m = 0;  // furthest the tip got along the colon (rest arclength)
 };
 
 // Runs a shipped scenario once per process and keeps what the tests look at.
@@ -37,8 +38,10 @@ const ScenarioRun& runOnce(const std::string& name) {
     r.time_s.push_back(t.time_s);
     r.loop_turns.push_back(t.loop_turns);
     r.peak_push_N = std::max(r.peak_push_N, t.handle_force_N);
+    r.peak_pull_N = std::max(r.peak_pull_N, -t.handle_force_N);
     r.peak_torque_Nm = std::max(r.peak_torque_Nm, std::abs(t.handle_torque_Nm));
     r.min_tip_to_caecum_m = std::min(r.min_tip_to_caecum_m, t.tip_to_caecum_m);
+    r.max_tip_arclength_m = std::max(r.max_tip_arclength_m, t.tip_arclength_m);
   };
   r.scores = runScenario(sc, sim, nullptr, hooks).scores;
   return runs.emplace(name, std::move(r)).first->second;
@@ -85,12 +88,22 @@ TEST(ScenarioRuns, ExpertScoresBetterThanTheNovice) {
 
 TEST(ScenarioRuns, FreeInsertionHandleForcesOfTheClinicalOrder) {
   const ScenarioRun& r = runOnce("free_insertion");
-  // Appleyard et al. 2000: peak push ~43 N, peak torque ~1 N m; the bounds.
+  std::printf("free_insertion: peak push %.2f N, peak pull %.2f N, peak torque %.3f N m, tip furthest %.3f m along "
+              "the colon, closest to the caecal pole %.3f m, time to caecum %s s\n",
+              r.peak_push_N, r.peak_pull_N, r.peak_torque_Nm, r.max_tip_arclength_m, r.min_tip_to_caecum_m,
+              r.scores.at("time_to_caecum_s").dump().c_str());
+  // Appleyard et al. 2000: peak push ~43 N, peak pull ~18 N, peak torque ~1 N m; the
+  // issue's bounds on push and torque. Pull: of the clinical order (below 30 N), not the
+  // 30-60 N one-step contact kicks of the anus sliding up the scope (before the rectum
+  // was held in the pelvis: assets/params/default.json, mesentery class "pelvic").
   EXPECT_GE(r.peak_push_N, 5.0);
   EXPECT_LE(r.peak_push_N, 60.0);
+  EXPECT_LT(r.peak_pull_N, 30.0);
   EXPECT_LT(r.peak_torque_Nm, 2.0);
-  std::printf("free_insertion: peak push %.2f N, peak torque %.3f N m, closest to the caecal pole %.3f m\n",
-              r.peak_push_N, r.peak_torque_Nm, r.min_tip_to_caecum_m);
+  // The tip gets round the hepatic flexure into the ascending colon (it starts at 1.40 m
+  // of the 1.55 m colon). The caecal pole (within 3 cm, time_to_caecum_s) is not reached
+  // yet: README, "Not done yet".
+  EXPECT_GE(r.max_tip_arclength_m, 1.40);
 }
 
 }  // namespace

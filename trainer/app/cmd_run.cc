@@ -122,16 +122,16 @@ int runScripted(const RunOptions& o) {
     if (!trace) throw InputError(o.trace + ": cannot create the file");
     std::fprintf(trace.get(),
                  "time_s,insertion_m,rotation_rad,handle_force_N,handle_torque_Nm,wall_force_peak_N,"
-                 "tip_x_m,tip_y_m,tip_z_m,tip_to_caecum_m,mesentery_stretch,loop_turns\n");
+                 "tip_x_m,tip_y_m,tip_z_m,tip_to_caecum_m,tip_arclength_m,mesentery_stretch,loop_turns\n");
     const long every = std::max(1L, std::lround(1.0 / (o.trace_hz * scenario.dt_s)));
     long n = 0;
     hooks.on_step = [&, every, n, record = hooks.on_step](const Telemetry& t) mutable {
       record(t);
       if (n++ % every != 0) return;
-      std::fprintf(trace.get(), "%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f,%.4f,%g\n", t.time_s,
+      std::fprintf(trace.get(), "%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%g\n", t.time_s,
                    t.input.insertion_m, t.input.rotation_rad, t.handle_force_N, t.handle_torque_Nm,
                    t.wall_force_peak_N, t.tip_position_m.x(), t.tip_position_m.y(), t.tip_position_m.z(),
-                   t.tip_to_caecum_m, t.mesentery_stretch, t.loop_turns);
+                   t.tip_to_caecum_m, t.tip_arclength_m, t.mesentery_stretch, t.loop_turns);
     };
   }
   if (!o.frames.empty()) {
