@@ -135,6 +135,17 @@ TEST(ExtremeInputs, SpinTenTurnsPerSecond) { expectSurvived(runExtreme("extreme_
 TEST(ExtremeInputs, KnobsSwungAndSlammedEndToEnd) { expectSurvived(runExtreme("extreme_knobs")); }
 TEST(ExtremeInputs, EverythingAtOnce) { expectSurvived(runExtreme("extreme_all")); }
 
+// The recorded session of run r replays to the same state hashes, final hash and count of
+// limited steps.
+void expectReplaysBitIdentically(const ReplayPlan& plan, const ExtremeRun& r, long limited_steps) {
+  WorldSimulation again(plan.scenario);
+  const ReplayResult rr = replay(plan, again);
+  EXPECT_TRUE(rr.hashOk()) << rr.mismatch;
+  EXPECT_TRUE(rr.final_hash_checked);
+  EXPECT_EQ(rr.final_state_hash, r.hash);
+  EXPECT_EQ(rr.scores["solver_limited_steps"], limited_steps);
+}
+
 // The knob slams ask the tip for more spin than the solve is trusted with (0.25 rad per
 // step): the limiter engages, the session says so in event lines, the scores count it,
 // the state stays finite, and the recording replays bit-identically.
@@ -166,12 +177,7 @@ TEST(ExtremeInputs, LimiterEngagesIsRecordedAndReplays) {
   EXPECT_EQ(starts, episodes) << "one solver_limited event per run of limited steps";
   EXPECT_GE(ends, starts - 1);
   EXPECT_LE(ends, starts);
-  WorldSimulation again(plan.scenario);
-  const ReplayResult rr = replay(plan, again);
-  EXPECT_TRUE(rr.hashOk()) << rr.mismatch;
-  EXPECT_TRUE(rr.final_hash_checked);
-  EXPECT_EQ(rr.final_state_hash, r.hash);
-  EXPECT_EQ(rr.scores["solver_limited_steps"], limited_steps);
+  expectReplaysBitIdentically(plan, r, limited_steps);
 }
 
 // Pushed at 1 m/s against sticky walls the handle force reaches the grip's limit: the grip
@@ -197,12 +203,7 @@ TEST(ExtremeInputs, JammedAgainstStickyWallsTheGripSlipsIsRecordedAndReplays) {
     }
   }
   EXPECT_GT(grip_events, 0);
-  WorldSimulation again(plan.scenario);
-  const ReplayResult rr = replay(plan, again);
-  EXPECT_TRUE(rr.hashOk()) << rr.mismatch;
-  EXPECT_TRUE(rr.final_hash_checked);
-  EXPECT_EQ(rr.final_state_hash, r.hash);
-  EXPECT_EQ(rr.scores["solver_limited_steps"], limited_steps);
+  expectReplaysBitIdentically(plan, r, limited_steps);
 }
 
 // A clinical-pace insertion never reaches a limit: the first 16 s of free_insertion (the
