@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -17,6 +18,7 @@ SessionHeader sessionHeaderFor(const Scenario& scenario, const std::string& colo
   h.scenario = scenario.id.empty() ? scenario.file : scenario.id;
   h.scenario_hash = scenario.file_hash;
   h.params_hash = hashFile(scenario.params_path);
+  if (scenario.params_replaced) h.params = scenario.params_path;
   h.anatomy_hash = hashFile(scenario.anatomy_path);
   h.colosim_version = colosim_version;
   h.dt_s = scenario.dt_s;
@@ -68,6 +70,14 @@ ReplayPlan planReplay(const std::string& session_path) {
     p.scenario = findScenario(h.scenario);
   } catch (const InputError& e) {
     throw InputError(session_path + ":1: scenario: " + e.what());
+  }
+  // The parameter file the run used in place of the scenario's, as colosim run --params did.
+  if (!h.params.empty()) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(h.params, ec))
+      throw InputError(session_path + ":1: params: the parameter file " + h.params +
+                       " the session was recorded with does not exist");
+    useParameterFile(p.scenario, h.params);
   }
   // The recording's time step and seed rule (a run may have overridden the scenario's).
   p.scenario.dt_s = h.dt_s;

@@ -199,7 +199,10 @@ Parameters scenarioParameters(const Scenario& scenario) {
 }
 
 std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path) {
-  scenario.params_path = params_path;
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(params_path, ec);
+  scenario.params_path = ec ? params_path : absolute.lexically_normal().string();
+  scenario.params_replaced = true;
   const std::optional<double> dropped = scenario.overrides.wall_friction;
   scenario.overrides.wall_friction.reset();
   return dropped;

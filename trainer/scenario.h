@@ -57,6 +57,9 @@ struct Scenario {
   std::string id;
   std::string anatomy_path;   ///< resolved path of the anatomy file
   std::string params_path;    ///< resolved path of the parameter file
+  /// params_path is not the file the scenario names but one given for the run
+  /// (useParameterFile); sessions then record it.
+  bool params_replaced = false;
   double dt_s = 1e-3;         ///< time step [s]
   double duration_s = 0.0;    ///< length of the scripted run [s]
   int seed = 0;               ///< seed of every random choice of the simulation

@@ -49,6 +49,10 @@ SessionHeader readHeader(JsonObject& o) {
   if (h.scenario.empty()) o.fail("scenario", "must not be empty");
   h.scenario_hash = readHash(o, "scenario_hash");
   h.params_hash = readHash(o, "params_hash");
+  if (o.has("params")) {
+    h.params = o.string("params");
+    if (h.params.empty()) o.fail("params", "must not be empty (leave the key out for the scenario's own file)");
+  }
   h.anatomy_hash = readHash(o, "anatomy_hash");
   h.colosim_version = o.string("colosim_version");
   h.dt_s = o.number("dt_s", 1e-5, 1e-2);
@@ -190,6 +194,7 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
   j["scenario"] = header.scenario;
   j["scenario_hash"] = hashToHex(header.scenario_hash);
   j["params_hash"] = hashToHex(header.params_hash);
+  if (!header.params.empty()) j["params"] = header.params;
   j["anatomy_hash"] = hashToHex(header.anatomy_hash);
   j["colosim_version"] = header.colosim_version;
   j["dt_s"] = header.dt_s;

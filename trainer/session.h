@@ -24,6 +24,9 @@ struct SessionHeader {
   std::string scenario;         ///< scenario id: a shipped name or an absolute path
   uint64_t scenario_hash = 0;   ///< FNV-1a of the scenario file
   uint64_t params_hash = 0;     ///< FNV-1a of the parameter file
+  /// The parameter file the run used instead of the scenario's (`colosim run --params`,
+  /// e.g. an identified model), as an absolute path; empty: the scenario's own.
+  std::string params;
   uint64_t anatomy_hash = 0;    ///< FNV-1a of the anatomy file
   std::string colosim_version;  ///< version of the build that recorded it
   double dt_s = 1e-3;           ///< time step [s]

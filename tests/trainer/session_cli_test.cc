@@ -3,6 +3,7 @@
 // which is what the command simulates (trainer/app/simulation_factory.cc).
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -142,6 +143,43 @@ TEST(SessionCli, FramesNeverOverwriteExistingFiles) {
   EXPECT_NE(r.err.find("not empty"), std::string::npos) << r.err;
   EXPECT_EQ(test::readFile(keep), "precious");
   EXPECT_EQ(run("replay " + s + " --size 10", dir).code, 2);
+}
+
+// A run with another parameter file (an identified model, `colosim run --params`) is
+// recorded with that file named in the header, so the replay simulates the same model;
+// what a session cannot name (--tension-law, the scan query) is refused with --record.
+TEST(SessionCli, SessionRecordedWithAnotherParameterFileReplaysThatModel) {
+  test::TempDir dir;
+  const std::string scenario = dir.write("p.json", test::smallScenarioText("p"));
+  nlohmann::json params = nlohmann::json::parse(test::readFile(std::string(COLOSIM_ASSET_DIR) + "/params/default.json"));
+  params["contact"]["friction_coefficient"]["value"] = 0.6;
+  const std::string sticky = dir.write("sticky.json", params.dump(2));
+
+  const std::string with = dir.file("with.jsonl"), without = dir.file("without.jsonl");
+  ASSERT_EQ(run("run " + scenario + " --params " + sticky + " --record " + with, dir).code, 0);
+  ASSERT_EQ(run("run " + scenario + " --record " + without, dir).code, 0);
+  const Session a = readSession(with), b = readSession(without);
+  EXPECT_NE(a.header.params.find("sticky.json"), std::string::npos) << a.header.params;
+  EXPECT_TRUE(b.header.params.empty());
+  EXPECT_NE(a.final_state_hash, b.final_state_hash) << "the friction must change the motion";
+
+  const Result r = run("replay " + with + " --check", dir);
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+
+  // The file gone: the session cannot be replayed, said with its line.
+  std::filesystem::rename(sticky, dir.file("moved.json"));
+  const Result gone = run("replay " + with, dir);
+  EXPECT_EQ(gone.code, 2);
+  EXPECT_NE(gone.err.find(with + ":1: params"), std::string::npos) << gone.err;
+
+  for (const std::string& flag : {std::string("--query scan"), "--tension-law " + dir.file("law.json")}) {
+    const std::string out = dir.file("refused.jsonl");
+    const Result x = run("run " + scenario + " " + flag + " --record " + out, dir);
+    EXPECT_EQ(x.code, 2) << flag << ": " << x.err;
+    EXPECT_NE(x.err.find("--record with"), std::string::npos) << x.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+  }
 }
 
 }  // namespace

@@ -81,6 +81,13 @@ void printScores(const nlohmann::json& scores) {
 int runScripted(const RunOptions& o) {
   // Every input is read and checked before any output is opened.
   Scenario scenario = findScenario(o.scenario);
+  // A session holds the scenario, the parameter file and the inputs: what it cannot name
+  // would make its replay differ, so such a run is not recorded.
+  if (!o.record.empty() && !o.tension_law.empty())
+    throw InputError("--record with --tension-law: a session cannot name the law, so it would not replay; put the "
+                     "law in a parameter file (colon.tension_law) and give that with --params");
+  if (!o.record.empty() && o.query != "fcl")
+    throw InputError("--record with --query " + o.query + ": sessions replay with the FCL query only");
   // Another parameter file, e.g. an identified one (colosim identify --law-out on a recorded
   // insertion): it states the wall friction (and tension law) to simulate, so the scenario's
   // wall_friction override gives way to the file's friction_coefficient.
