@@ -1,6 +1,7 @@
 // Step-by-step trace of a replay (diagnosing one-row handle-force spikes):
 //   organ_force_probe RECORDING.csv EFFECT|none VALUE FROM_S TO_S
-// replays the recording as replayInsertion does (3 cm resolution) and prints, for every
+// replays the recording as replayInsertion does (3 cm resolution; rest and settled starts, not
+// a scenario's scripted set-up) and prints, for every
 // 1 ms step in [FROM_S, TO_S], the insertion, the simulated segment count, the handle force,
 // wall contacts on the last three simulated segments and the joint gaps at the anus.
 #include <cmath>
