@@ -1,5 +1,6 @@
 #include "organ/synthetic_insertion.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -17,7 +18,8 @@ std::pair<double, double> syntheticRange(const std::string& e) {
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
 
-SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles) {
+SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles,
+                                              int holds) {
   std::mt19937_64 rng(seed);
   auto U = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
   SyntheticInsertionSpec s;
@@ -41,6 +43,10 @@ SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, d
     s.cycles = cycles;
     s.cycle_amplitude_m = U(0.06, 0.10);
     s.start_insertion_m = U(0.12, 0.18);
+  } else if (holds > 0) {
+    s.holds = holds;
+    s.hold_step_m = U(0.04, 0.07);
+    s.start_insertion_m = U(0.40, 0.50);
   }
   return s;
 }
@@ -62,6 +68,13 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
     const double d1 = s.push_speed_m_per_s * 0.45 * T;
     double ins;
     if (s.cycles > 0) ins = s.cycle_amplitude_m * (1 - std::cos(2 * M_PI * s.cycles * t / T)) / 2;
+    else if (s.holds > 0) {
+      // Stage i (of `holds`, each T / holds long): i steps done, the next pushed over the ramp.
+      const double stage = T / s.holds;
+      const int i = std::min(s.holds - 1, static_cast<int>(t / stage));
+      const double ramp = std::clamp((t - i * stage) / (s.hold_ramp_fraction * stage), 0.0, 1.0);
+      ins = s.hold_step_m * (i + ramp);
+    }
     else if (t < 0.45 * T) ins = s.push_speed_m_per_s * t;
     else if (t < 0.55 * T) ins = d1;
     else if (t < 0.70 * T) ins = d1 - s.pull_back_m * (t - 0.55 * T) / (0.15 * T);
@@ -98,6 +111,10 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
   if (s.cycles > 0) {
     std::snprintf(buf, sizeof buf, "%d insert / withdraw cycles of %.4g m from %.4g m", s.cycles, s.cycle_amplitude_m,
                   s.start_insertion_m);
+    r.metadata.push_back({"protocol", buf});
+  } else if (s.holds > 0) {
+    std::snprintf(buf, sizeof buf, "%d push-and-hold stages of %.4g m (pushed over %.3g of each) from %.4g m", s.holds,
+                  s.hold_step_m, s.hold_ramp_fraction, s.start_insertion_m);
     r.metadata.push_back({"protocol", buf});
   }
   return r;

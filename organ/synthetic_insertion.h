@@ -27,6 +27,12 @@ struct SyntheticInsertionSpec {
   double pull_back_m = 0.03;
   int cycles = 0;                   ///< insert / withdraw cycles (0: push, hold, pull, push)
   double cycle_amplitude_m = 0.08;  ///< depth pushed and withdrawn in each cycle [m]
+  // Or, with holds > 0 (and cycles 0): that many push-and-hold stages of equal duration,
+  // each a quick push of hold_step_m over the first hold_ramp_fraction of the stage, then
+  // the depth held (a staircase: stress relaxation shows as the force decaying in the holds).
+  int holds = 0;
+  double hold_step_m = 0.05;        ///< depth pushed at the start of each stage [m]
+  double hold_ramp_fraction = 0.2;  ///< part of each stage spent pushing [-]
   double rotation_amplitude_rad = 0.3;
   double knob_updown_rad = 0.3;
   // Sensors.
@@ -40,8 +46,10 @@ struct SyntheticInsertionSpec {
 /// Draws a spec with seeded std::mt19937_64: the effect (one of organEffectNames(), or none
 /// when `effect_index` < 0), its magnitude from a physiological range, the protocol and the
 /// noise. cycles > 0 selects the cyclic protocol (its amplitude and start depth drawn after
-/// everything else, so the other draws of a seed do not depend on it).
-SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles = 0);
+/// everything else, so the other draws of a seed do not depend on it); holds > 0 (cycles 0)
+/// the push-and-hold staircase (its step and start depth drawn likewise, after everything else).
+SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles = 0,
+                                              int holds = 0);
 
 /// The range the magnitude of an effect is drawn from in tests.
 std::pair<double, double> syntheticRange(const std::string& effect);

@@ -1,7 +1,7 @@
 // Writes a synthetic insertion recording (organ/synthetic_insertion.h):
-//   organ_make_insertion OUT.csv EFFECT VALUE DURATION_S SEED [CYCLES [AMPLITUDE_M START_M]]
+//   organ_make_insertion OUT.csv EFFECT VALUE DURATION_S SEED [CYCLES|hHOLDS [AMPLITUDE_M START_M]]
 // EFFECT "none" hides nothing; VALUE "drawn" draws it (and the protocol) as the tests do. CYCLES > 0: insert / withdraw cycles (amplitude and start depth
-// drawn from the seed unless given). Made at the identification's search resolution (0.03 m).
+// drawn from the seed unless given); hHOLDS (e.g. h2): that many push-and-hold stages (AMPLITUDE_M: the step). Made at the identification's search resolution (0.03 m).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -11,7 +11,7 @@
 int main(int argc, char** argv) {
   using namespace colosim;
   if (argc != 6 && argc != 7 && argc != 9) {
-    std::fprintf(stderr, "usage: %s OUT.csv EFFECT|none VALUE|drawn DURATION_S SEED [CYCLES [AMPLITUDE_M START_M]]\n",
+    std::fprintf(stderr, "usage: %s OUT.csv EFFECT|none VALUE|drawn DURATION_S SEED [CYCLES|hHOLDS [AMPLITUDE_M START_M]]\n",
                  argv[0]);
     return 2;
   }
@@ -20,9 +20,14 @@ int main(int argc, char** argv) {
   int index = -1;
   for (size_t i = 0; i < organEffectNames().size(); ++i)
     if (value == "drawn" && organEffectNames()[i] == effect) index = static_cast<int>(i);
+  const bool holds = argc > 6 && argv[6][0] == 'h';
+  const int stages = argc > 6 ? std::atoi(argv[6] + (holds ? 1 : 0)) : 0;
   SyntheticInsertionSpec s = drawSyntheticInsertion(std::strtoull(argv[5], nullptr, 10), index, std::atof(argv[4]),
-                                                    argc > 6 ? std::atoi(argv[6]) : 0);
-  if (argc == 9) s.cycle_amplitude_m = std::atof(argv[7]), s.start_insertion_m = std::atof(argv[8]);
+                                                    holds ? 0 : stages, holds ? stages : 0);
+  if (argc == 9) {
+    (holds ? s.hold_step_m : s.cycle_amplitude_m) = std::atof(argv[7]);
+    s.start_insertion_m = std::atof(argv[8]);
+  }
   if (effect != "none" && value != "drawn") s.effect = effect, s.value = std::atof(argv[3]);
   const ReplaySetup setup = makeReplaySetup(findScenario(s.scenario), 0.03);
   const InsertionRecording r = makeSyntheticInsertion(setup, s);

@@ -1,0 +1,76 @@
+// Step-by-step trace of a replay (diagnosing one-row handle-force spikes):
+//   organ_force_probe RECORDING.csv EFFECT|none VALUE FROM_S TO_S
+// replays the recording as replayInsertion does (3 cm resolution; rest and settled starts, not
+// a scenario's scripted set-up) and prints, for every
+// 1 ms step in [FROM_S, TO_S], the insertion, the simulated segment count, the handle force,
+// wall contacts on the last three simulated segments and the joint gaps at the anus.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "core/colon_step.h"
+#include "core/rotation.h"
+#include "core/scope_step.h"
+#include "organ/replay.h"
+#include "trainer/world_simulation.h"
+
+using namespace colosim;
+
+static double jointGap(const ScopeModel& m, const ScopeState& s, int k) {
+  const double h = m.h_m;
+  const Vec3 gap = (s.p_W[k] - 0.5 * h * s.R_WS[k].col(2)) - (s.p_W[k + 1] + 0.5 * h * s.R_WS[k + 1].col(2));
+  return gap.norm();
+}
+static double jointAngle(const ScopeState& s, int k) {
+  return logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]).norm();
+}
+
+int main(int argc, char** argv) {
+  if (argc != 6) {
+    std::fprintf(stderr, "usage: %s RECORDING.csv EFFECT|none VALUE FROM_S TO_S\n", argv[0]);
+    return 2;
+  }
+  const InsertionRecording rec = readInsertionRecording(argv[1]);
+  const ReplaySetup setup = makeReplaySetup(findScenario(rec.scenario), 0.03);
+  OrganParams p;
+  if (std::string(argv[2]) != "none") setOrganEffect(p, argv[2], std::atof(argv[3]));
+  const double from = std::atof(argv[4]), to = std::atof(argv[5]);
+  WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
+  const double dt = setup.dt_s;
+  WorldSimulation sim(std::move(model), dt, HandleInput(), "fcl");
+  WorldState& st = sim.mutableState();
+  if (setup.scenario.start.kind == "settled") {
+    const long steps = std::lround(setup.scenario.start.settle_s / dt);
+    for (long k = 0; k < steps; ++k) stepColon(sim.model().colon, st.colon, dt);
+    st.colon.time_s = 0.0;
+  }
+  const HandleInput first = rec.input.front();
+  if (first.insertion_m > 0) threadScopeAlongColon(sim.model(), st, first.insertion_m, first.rotation_rad);
+  st.scope.input = clampHandleInput(sim.model().scope, first);
+  const ScopeModel& sm = sim.model().scope;
+  std::printf("step,t_s,insertion_m,inside,handle_N,asked_N,wall_contacts,wall_last3_N,wall_max_N,"
+              "gap_last_um,gap_prev_um,angle_last_rad,angle_prev_rad,v_last_axial,limited\n");
+  const long n = std::lround(rec.time_s.back() / dt);
+  for (long step = 1; step <= n; ++step) {
+    const int inside_before = st.scope.inside;
+    sim.step(recordedInput(rec, step * dt));
+    const double t = step * dt;
+    if (t < from - 1e-9 || t > to + 1e-9) continue;
+    const ScopeState& s = st.scope;
+    double last3 = 0;
+    int nc = 0;
+    for (const WallContact& c : st.wall) {
+      ++nc;
+      if (c.scope_segment >= s.inside - 3) last3 += c.force_N;
+    }
+    const int j = s.inside - 1;
+    std::printf("%ld,%.3f,%.6f,%d%s,%.4f,%.4f,%d,%.4f,%.4f,%.3f,%.3f,%.5f,%.5f,%.5f,%d\n", step, t, s.input.insertion_m,
+                s.inside, s.inside != inside_before ? "*" : "", s.handle.force_N, s.asked_handle_force_N, nc, last3,
+                st.max_wall_force_N, j >= 0 ? 1e6 * jointGap(sm, s, j) : 0.0,
+                j >= 1 ? 1e6 * jointGap(sm, s, j - 1) : 0.0, j >= 0 ? jointAngle(s, j) : 0.0,
+                j >= 1 ? jointAngle(s, j - 1) : 0.0, j >= 0 ? s.v_W[j].dot(sm.R_W_entry.col(2)) : 0.0,
+                limitedCount(st));
+  }
+  return 0;
+}
