@@ -42,6 +42,7 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
   s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall,
                                          s.colon.loads, s.scope.loads, &s.contact_limit);
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
+  for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
   // Solve and integrate, each body with the other's contact forces held over the step.
   stepColon(m.colon, s.colon, dt);
   stepScope(m.scope, s.scope, in, dt);
@@ -111,6 +112,8 @@ uint64_t hashWorldState(const WorldState& s) {
     mix(&t.colon_segment, sizeof t.colon_segment);
     mix(&t.p, sizeof t.p);
   }
+  for (const RegionSupport& r : s.support)  // abdominal pressure anchors (none: the hash is unchanged)
+    if (r.anchor_q.size() > 0) mix(r.anchor_q.data(), r.anchor_q.size() * sizeof(double));
   return h;
 }
 

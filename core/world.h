@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/abdominal_pressure.h"
 #include "core/colon_model.h"
 #include "core/colon_state.h"
 #include "core/contact.h"
@@ -34,6 +35,10 @@ struct WorldState {
   std::vector<WallTrack> track;    ///< per interaction point (segment-major): last spline location
   double max_wall_force_N = 0;     ///< largest interaction-point force in the last step [N]
   ContactLimitReport contact_limit;  ///< what the contact force limit did in the last step
+  /// Abdominal pressure (core/abdominal_pressure.h), one entry per pressure of the scenario:
+  /// the simulation sets each one's k and c for the next step from its scenario (0 while it
+  /// is off) and its anchor when the pressing begins; anchors are state (hashed).
+  std::vector<RegionSupport> support;
 };
 
 /// How many quantities the solver limits changed in the last step (docs/hardening.md):
@@ -53,7 +58,8 @@ class ContactQuery {
   virtual void findSelfContacts(const WorldModel& model, WorldState& state) = 0;
 };
 
-/// One step of the world, dt_s [s]: contacts (query), contact forces, colon step, scope step.
+/// One step of the world, dt_s [s]: contacts (query), contact forces, abdominal pressure
+/// (state.support), colon step, scope step.
 void stepWorld(const WorldModel& model, WorldState& state, const HandleInput& input, ContactQuery& query,
                double dt_s);
 

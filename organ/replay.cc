@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/colon_step.h"
+#include "core/input_error.h"
 #include "core/scope_step.h"
 #include "trainer/world_simulation.h"
 
@@ -99,6 +100,9 @@ Parameters organParameters(const Parameters& params, const OrganParams& p) {
 
 Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p) {
   // The law comes with the parameter set (Parameters::tension_law), as in `colosim run`.
+  // The scenario's abdominal pressure is not replayed here: refuse rather than ignore it.
+  if (!setup.scenario.abdominal_pressure.empty())
+    throw InputError(setup.scenario.file + ": abdominal_pressure: not supported by the organ-level replay (identification)");
   WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
   const double dt = setup.dt_s;
   const ScenarioStart& start = setup.scenario.start;

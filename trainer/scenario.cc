@@ -90,6 +90,27 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
     o.finish();
   }
 
+  if (top.has("abdominal_pressure")) {
+    const nlohmann::json& list = top.raw("abdominal_pressure");
+    if (!list.is_array() || list.empty() || list.size() > 100)
+      top.fail("abdominal_pressure", "expected a list of 1 to 100 pressures");
+    for (size_t i = 0; i < list.size(); ++i) {
+      JsonObject a(list[i], path, "abdominal_pressure[" + std::to_string(i) + "]");
+      AbdominalPressure ap;
+      ap.region = a.string("region");
+      if (ap.region.empty()) a.fail("region", "must not be empty");
+      ap.from_s = a.number("from_s", 0.0, s.duration_s);
+      ap.to_s = a.number("to_s", 0.0, s.duration_s);
+      if (!(ap.to_s > ap.from_s)) a.fail("to_s", "must be after from_s (" + std::to_string(ap.from_s) + " s)");
+      if (a.has("ramp_s")) ap.ramp_s = a.number("ramp_s", 0.0, 60.0);
+      ap.stiffness_N_per_m2 = a.number("stiffness_N_per_m2", 0.0, 1e5);
+      ap.damping_Ns_per_m2 = a.number("damping_Ns_per_m2", 0.0, 1e4);
+      a.ignore("note");
+      a.finish();
+      s.abdominal_pressure.push_back(ap);
+    }
+  }
+
   if (top.has("scoring")) {
     JsonObject sc = top.object("scoring");
     ScoreOptions& so = s.scoring;

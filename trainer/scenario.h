@@ -47,6 +47,19 @@ struct ScenarioOverrides {
   std::optional<std::string> patient_position;    ///< left_lateral | right_lateral | supine | prone
 };
 
+/// Abdominal pressure (core/abdominal_pressure.h): an assistant's hand pressing on the
+/// abdomen over one region of the colon during [from_s, to_s] of the session's clock,
+/// modelled as extra lifters of these densities on the region, ramped in and out over
+/// ramp_s. Read from the scenario only, so replays reproduce it.
+struct AbdominalPressure {
+  std::string region;               ///< a region name of the anatomy (checked when the simulation is built)
+  double from_s = 0.0;              ///< [s]
+  double to_s = 0.0;                ///< [s], > from_s
+  double ramp_s = 1.0;              ///< [s], linear ramp in and out (default 1 s)
+  double stiffness_N_per_m2 = 0.0;  ///< k [N/m per m]
+  double damping_Ns_per_m2 = 0.0;   ///< c [N s/m per m]
+};
+
 struct Scenario {
   std::string name;
   std::string description;
@@ -66,6 +79,7 @@ struct Scenario {
   ScenarioStart start;
   ScenarioOverrides overrides;
   ScoreOptions scoring;       ///< thresholds (defaults unless the file sets them)
+  std::vector<AbdominalPressure> abdominal_pressure;  ///< optional, in file order
   std::vector<Keyframe> script;
 
   /// Number of steps of the scripted run: round(duration_s / dt_s).

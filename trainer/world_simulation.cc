@@ -110,6 +110,33 @@ WorldSimulation::WorldSimulation(const Scenario& scenario, const Parameters& par
       throw InputError(addLineToMessage(e.what(), scenario.file, text));
     }
   }
+  // Abdominal pressure: each named region's spline segments (an unknown region is refused
+  // here, naming the file, line and key, as a colon shape's is).
+  for (size_t i = 0; i < scenario.abdominal_pressure.size(); ++i) {
+    const AbdominalPressure& a = scenario.abdominal_pressure[i];
+    Pressure p;
+    p.from_s = a.from_s, p.to_s = a.to_s, p.ramp_s = a.ramp_s;
+    p.region.stiffness_N_per_m2 = a.stiffness_N_per_m2;
+    p.region.damping_Ns_per_m2 = a.damping_Ns_per_m2;
+    p.region.first_segment = -1;
+    for (int j = 0; j + 1 < model_.colon.n; ++j) {
+      if (model_.colon.region_names[model_.colon.segment_region[j]] != a.region) continue;
+      if (p.region.first_segment < 0) p.region.first_segment = j;
+      p.region.last_segment = j;
+    }
+    if (p.region.first_segment < 0) {
+      std::ifstream in(scenario.file);
+      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const std::string key = "abdominal_pressure[" + std::to_string(i) + "].region";
+      throw InputError(addLineToMessage(scenario.file + ": " + key + ": no region '" + a.region + "' in the anatomy",
+                                        scenario.file, text));
+    }
+    pressure_.push_back(p);
+  }
+  for (const Pressure& p : pressure_) {
+    state_.support.push_back(p.region);
+    state_.support.back().stiffness_N_per_m2 = state_.support.back().damping_Ns_per_m2 = 0;
+  }
   init(scenario.script.empty() ? HandleInput() : scenario.script.front().input);
 }
 
@@ -137,7 +164,21 @@ void WorldSimulation::init(const HandleInput& start) {
   measure();
 }
 
+void WorldSimulation::setSupport(double t_s) {
+  for (size_t i = 0; i < pressure_.size(); ++i) {
+    const Pressure& p = pressure_[i];
+    RegionSupport& r = state_.support[i];
+    const double f = pressureRamp(t_s, p.from_s, p.to_s, p.ramp_s);
+    // The hand holds the region where it lies when the pressing begins (its first step).
+    if (f > 0 && r.anchor_q.cols() == 0) r.anchor_q = state_.colon.q;
+    r.stiffness_N_per_m2 = f * p.region.stiffness_N_per_m2;
+    r.damping_Ns_per_m2 = f * p.region.damping_Ns_per_m2;
+  }
+}
+
 void WorldSimulation::step(const HandleInput& in) {
+  // The pressure in force over this step: the ramp at the step's start time.
+  if (!pressure_.empty()) setSupport(state_.colon.time_s);
   stepWorld(model_, state_, in, *query_, dt_s_);
   measure();
   telemetry_.solver_limited = limitedCount(state_);

@@ -68,6 +68,13 @@ class WorldSimulation : public Simulation {
   long limited_run_steps_ = 0;
   double run_force_N_ = 0, run_scope_speed_ = 0, run_scope_spin_ = 0, run_colon_speed_ = 0;
   double run_handle_force_N_ = 0, run_handle_torque_Nm_ = 0;  // largest |handle force, torque| asked in the run
+  /// The scenario's abdominal pressure, resolved to spline segments (core/abdominal_pressure.h).
+  struct Pressure {
+    RegionSupport region;  ///< full densities
+    double from_s = 0, to_s = 0, ramp_s = 0;
+  };
+  std::vector<Pressure> pressure_;
+  void setSupport(double t_s);
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
 };
