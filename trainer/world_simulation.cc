@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <tuple>
+#include <utility>
 #include <iterator>
 
 #include "core/colon_step.h"
@@ -40,17 +42,33 @@ ClosestPoint nearestAround(const Points& q, int tracked, const Vec3& x) {
   return best;
 }
 
+// The spline segments [first, last] of a region of the colon; first = -1 when the anatomy
+// has no such region.
+std::pair<int, int> regionSegments(const ColonModel& colon, const std::string& region) {
+  int first = -1, last = -1;
+  for (int j = 0; j + 1 < colon.n; ++j) {
+    if (colon.region_names[colon.segment_region[j]] != region) continue;
+    if (first < 0) first = j;
+    last = j;
+  }
+  return {first, last};
+}
+
+// An error found when the simulation is built, with the line of its key in the scenario file.
+InputError scenarioError(const std::string& file, const std::string& message) {
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return InputError(addLineToMessage(message, file, text));
+}
+
 // The start state's colon shape (ScenarioStart::shape_region): the region's control points
 // placed along the uniform Catmull-Rom curve through `waypoints` (ends extrapolated),
 // at their rest arclength spacing scaled to the curve's length; velocities zero.
 void placeColonRegion(const ColonModel& colon, ColonState& s, const std::string& region,
                       const std::vector<Vec3>& waypoints, const std::string& where) {
-  int first = -1, last = -1;  // control points bounding the region's segments
-  for (int j = 0; j + 1 < colon.n; ++j) {
-    if (colon.region_names[colon.segment_region[j]] != region) continue;
-    if (first < 0) first = j;
-    last = j + 1;
-  }
+  // The control points bounding the region's segments.
+  const auto [first, last_segment] = regionSegments(colon, region);
+  const int last = last_segment + 1;
   if (first < 0) throw InputError(where + ": start.colon_shape.region: no region '" + region + "' in the anatomy");
   const Vec3 p_first = s.q.col(first), p_last = s.q.col(last);
   if ((waypoints.front() - p_first).norm() > 0.01 || (waypoints.back() - p_last).norm() > 0.01) {
@@ -105,9 +123,7 @@ WorldSimulation::WorldSimulation(const Scenario& scenario, const Parameters& par
       placeColonRegion(model_.colon, state_.colon, scenario.start.shape_region, scenario.start.shape_points_m,
                        scenario.file);
     } catch (const InputError& e) {  // name the line of the key in the scenario file
-      std::ifstream in(scenario.file);
-      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      throw InputError(addLineToMessage(e.what(), scenario.file, text));
+      throw scenarioError(scenario.file, e.what());
     }
   }
   // Abdominal pressure: each named region's spline segments (an unknown region is refused
@@ -118,18 +134,10 @@ WorldSimulation::WorldSimulation(const Scenario& scenario, const Parameters& par
     p.from_s = a.from_s, p.to_s = a.to_s, p.ramp_s = a.ramp_s;
     p.region.stiffness_N_per_m2 = a.stiffness_N_per_m2;
     p.region.damping_Ns_per_m2 = a.damping_Ns_per_m2;
-    p.region.first_segment = -1;
-    for (int j = 0; j + 1 < model_.colon.n; ++j) {
-      if (model_.colon.region_names[model_.colon.segment_region[j]] != a.region) continue;
-      if (p.region.first_segment < 0) p.region.first_segment = j;
-      p.region.last_segment = j;
-    }
+    std::tie(p.region.first_segment, p.region.last_segment) = regionSegments(model_.colon, a.region);
     if (p.region.first_segment < 0) {
-      std::ifstream in(scenario.file);
-      const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
       const std::string key = "abdominal_pressure[" + std::to_string(i) + "].region";
-      throw InputError(addLineToMessage(scenario.file + ": " + key + ": no region '" + a.region + "' in the anatomy",
-                                        scenario.file, text));
+      throw scenarioError(scenario.file, scenario.file + ": " + key + ": no region '" + a.region + "' in the anatomy");
     }
     pressure_.push_back(p);
   }
