@@ -33,6 +33,10 @@ struct ScopeState {
   std::vector<Vec3> v_W;   ///< segment centre velocities (K) [m/s]
   std::vector<Vec3> w_W;   ///< segment angular velocities, world (K) [rad/s]
   int inside = 0;          ///< simulated segments: 0 .. inside-1 (the rest are kinematic)
+  /// The first outside segment when it left the chain bent (withdrawn), else -1: it comes
+  /// out pivoting about the anus and straightens as it does (see exitPose()).
+  int tilted_segment = -1;
+  Vec3 tilt_rad = Vec3::Zero();  ///< its rotation from the straight pose when it left, in its own frame [rad]
   HandleInput input;       ///< the outside part's pose after the last step: the handle inputs, clamped, less the grip slip
   double grip_slip_m = 0;    ///< commanded minus actual insertion: how far the grip has slipped along the tube [m]
   double grip_slip_rad = 0;  ///< commanded minus actual rotation [rad]
@@ -56,6 +60,8 @@ struct ScopeState {
     std::vector<Vec3> p_W, v_W, w_W;
     std::vector<Mat3> R_WS;
     int inside = 0;
+    int tilted_segment = -1;
+    Vec3 tilt_rad = Vec3::Zero();
     HandleInput input;
     double time_s = 0;
   } start;
@@ -68,6 +74,14 @@ ScopeState makeScopeState(const ScopeModel& model, int load_capacity = 4096);
 /// direction at insertion depth L [m], turned by the handle rotation phi [rad].
 void kinematicPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad,
                    Vec3* p_W, Mat3* R_WS);
+
+/// The pose of segment k when it is the first outside segment and left the chain turned by
+/// `tilt_rad` from its straight pose (in its own frame) [rad]: its axis passes through the
+/// anus and the tilt fades linearly as its length comes out, from all of it when its
+/// proximal end is at the anus (insertion (k+1) h) to none when its distal end is
+/// (insertion k h), where it matches kinematicPose().
+void exitPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad, const Vec3& tilt_rad,
+              Vec3* p_W, Mat3* R_WS);
 
 /// Clamps handle inputs into the scope's ranges (insertion within the working length,
 /// knobs within their stops); NaN becomes 0.

@@ -39,6 +39,15 @@ void kinematicPose(const ScopeModel& m, int k, double L, double phi, Vec3* p, Ma
   *R = expSO3(phi * e) * m.R_W_entry;
 }
 
+void exitPose(const ScopeModel& m, int k, double L, double phi, const Vec3& tilt_rad, Vec3* p, Mat3* R) {
+  const Vec3 e = m.R_W_entry.col(2);
+  const double out = std::clamp(((k + 1) * m.h_m - L) / m.h_m, 0.0, 1.0);  // fraction of its length outside
+  // The tilt is a world rotation applied after the handle's turn, so that turning the
+  // handle spins the segment about its own (tilted) axis.
+  *R = expSO3((1.0 - out) * tilt_rad) * expSO3(phi * e) * m.R_W_entry;
+  *p = m.p_W_anus + (L - (k + 0.5) * m.h_m) * R->col(2);
+}
+
 HandleInput clampHandleInput(const ScopeModel& m, const HandleInput& in) {
   auto finite = [](double x) { return std::isfinite(x) ? x : 0.0; };
   HandleInput c;
@@ -128,6 +137,22 @@ void advance(const ScopeModel& m, ScopeState& s, const HandleInput& in, double d
   // added to (pushed in) or removed from (withdrawn) the simulated chain.
   const int inside =
       inside_set >= 0 ? inside_set : std::min(K - 1, static_cast<int>(std::floor(in.insertion_m / h + 1e-9)));
+  // A segment withdrawn out of the chain keeps the tilt the chain gave it and comes out
+  // pivoting about the anus, straightening as it does (exitPose). Put straight at once, a
+  // segment bent 0.17 rad at the anus opened the last joint by 2.5 mm in one step, a pull
+  // kick of 35-46 N on the handle at each crossing of a hooked withdrawal.
+  // (Invariant: tilted_segment is -1 or the first outside segment, s.inside.)
+  int rejoined = -1;  // the tilted segment, pushed back in before it came out: it rejoins as it is
+  if (inside < s.inside) {
+    Vec3 p;
+    Mat3 R_straight;
+    kinematicPose(m, inside, in.insertion_m, in.rotation_rad, &p, &R_straight);
+    s.tilted_segment = inside;
+    s.tilt_rad = logSO3(s.R_WS[inside] * R_straight.transpose());
+  } else if (inside > s.inside) {
+    rejoined = s.tilted_segment;
+    s.tilted_segment = -1;
+  }
   // A segment that crosses the anus this step joins from where it was at the start of the
   // step (its kinematic pose of the last inputs) with the handle's velocity, like the
   // simulated segments: the integration below carries it on. (Placed at the new inputs'
@@ -135,6 +160,16 @@ void advance(const ScopeModel& m, ScopeState& s, const HandleInput& in, double d
   // the 2e6 N/m joint read as a pull of up to 495 N on the handle in extreme_all.)
   for (int k = std::min(inside, s.inside); k < K; ++k) {
     if (k < inside && k < s.inside) continue;
+    if (k == rejoined) continue;  // keeps its pose and the velocity it came out with
+    if (k == s.tilted_segment) {
+      // The velocity of its move this step, for the joint's damping.
+      const Vec3 p0 = s.p_W[k];
+      const Mat3 R0 = s.R_WS[k];
+      exitPose(m, k, in.insertion_m, in.rotation_rad, s.tilt_rad, &s.p_W[k], &s.R_WS[k]);
+      s.v_W[k] = (s.p_W[k] - p0) / dt;
+      s.w_W[k] = logSO3(s.R_WS[k] * R0.transpose()) / dt;
+      continue;
+    }
     if (k >= inside) kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
     s.v_W[k] = insertion_rate * e;
     s.w_W[k] = rotation_rate * e;
@@ -144,6 +179,7 @@ void advance(const ScopeModel& m, ScopeState& s, const HandleInput& in, double d
   // hanging from the outside part's distal end, so that it does not swing into place
   // (a spurious kick on the handle force).
   for (int k = std::max(s.inside, 1); k < inside; ++k) {
+    if (k == rejoined) continue;
     const Vec3 half = 0.5 * logSO3(s.R_WS[k].transpose() * s.R_WS[k - 1]);
     const Vec3 joint_W = s.p_W[k] - 0.5 * h * s.R_WS[k].col(2);  // proximal end: fixed
     s.R_WS[k] = s.R_WS[k] * expSO3(half);
@@ -151,7 +187,7 @@ void advance(const ScopeModel& m, ScopeState& s, const HandleInput& in, double d
   }
   // The tip joins bent as the knobs hold it (at its joint's rest rotation), or it is
   // flung by the whole bending moment at once (0.7 N m on 3 g with the knobs at a stop).
-  if (s.inside == 0 && inside > 0) {
+  if (s.inside == 0 && inside > 0 && rejoined != 0) {
     const Vec3 joint_W = s.p_W[0] - 0.5 * h * s.R_WS[0].col(2);
     s.R_WS[0] = s.R_WS[0] * expSO3(restJointRotation(m, 0, in));
     s.p_W[0] = joint_W + 0.5 * h * s.R_WS[0].col(2);
@@ -287,6 +323,8 @@ void saveStart(ScopeState& s) {
   std::copy(s.v_W.begin(), s.v_W.end(), a.v_W.begin());
   std::copy(s.w_W.begin(), s.w_W.end(), a.w_W.begin());
   a.inside = s.inside;
+  a.tilted_segment = s.tilted_segment;
+  a.tilt_rad = s.tilt_rad;
   a.input = s.input;
   a.time_s = s.time_s;
 }
@@ -298,6 +336,8 @@ void restoreStart(ScopeState& s) {
   std::copy(a.v_W.begin(), a.v_W.end(), s.v_W.begin());
   std::copy(a.w_W.begin(), a.w_W.end(), s.w_W.begin());
   s.inside = a.inside;
+  s.tilted_segment = a.tilted_segment;
+  s.tilt_rad = a.tilt_rad;
   s.input = a.input;
   s.time_s = a.time_s;
 }
@@ -384,12 +424,18 @@ double scopeKineticEnergy(const ScopeModel& m, const ScopeState& s) {
   return e;
 }
 
+namespace {
+constexpr size_t kSnapshotHeader = 12;  // time, inside, tilted segment, tilt (3), inputs (4), grip slip (2)
+}  // namespace
+
 std::vector<double> getScopeState(const ScopeState& s) {
   std::vector<double> out;
   const size_t K = s.p_W.size();
-  out.reserve(8 + K * 18);
+  out.reserve(kSnapshotHeader + K * 18);
   out.push_back(s.time_s);
   out.push_back(s.inside);
+  out.push_back(s.tilted_segment);
+  out.insert(out.end(), s.tilt_rad.data(), s.tilt_rad.data() + 3);
   out.push_back(s.input.insertion_m);
   out.push_back(s.input.rotation_rad);
   out.push_back(s.input.knob_updown_rad);
@@ -407,12 +453,14 @@ std::vector<double> getScopeState(const ScopeState& s) {
 
 void setScopeState(const std::vector<double>& snap, ScopeState& s) {
   const size_t K = s.p_W.size();
-  if (snap.size() != 8 + K * 18)
+  if (snap.size() != kSnapshotHeader + K * 18)
     throw std::invalid_argument("scope state snapshot has " + std::to_string(snap.size()) +
-                                " values, expected " + std::to_string(8 + K * 18));
+                                " values, expected " + std::to_string(kSnapshotHeader + K * 18));
   size_t i = 0;
   s.time_s = snap[i++];
   s.inside = static_cast<int>(snap[i++]);
+  s.tilted_segment = static_cast<int>(snap[i++]);
+  std::memcpy(s.tilt_rad.data(), &snap[i], 3 * sizeof(double)); i += 3;
   s.input.insertion_m = snap[i++];
   s.input.rotation_rad = snap[i++];
   s.input.knob_updown_rad = snap[i++];

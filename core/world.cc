@@ -68,6 +68,8 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
   sc.input = in;
   sc.grip_slip_m = sc.grip_slip_rad = 0;
   sc.inside = std::min(scope.segment_count - 1, static_cast<int>(std::floor(depth / scope.h_m + 1e-9)));
+  sc.tilted_segment = -1;
+  sc.tilt_rad.setZero();
   // Frames carried along the centreline by the rotation between consecutive axes
   // (parallel transport), starting from the entry frame turned by the handle.
   Mat3 R;

@@ -381,7 +381,9 @@ TEST(Session, RealWorldSessionCutAtEveryByteReplaysItsCompleteRecords) {
     ASSERT_EQ(p.steps, expected) << "cut at " << k;
     ASSERT_EQ(p.complete, k + 1 >= text.size()) << "cut at " << k;
     ASSERT_EQ(p.truncated, !p.complete);
-    if (p.truncated) ASSERT_EQ(p.message.rfind(path, 0), 0u) << p.message;
+    if (p.truncated) {
+      ASSERT_EQ(p.message.rfind(path, 0), 0u) << p.message;
+    }
     const auto id = std::make_pair(p.steps, p.checkpoints.size());
     if (replayed.count(id) && !p.complete) continue;
     replayed[id] = true;
