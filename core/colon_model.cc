@@ -164,6 +164,9 @@ ColonModel buildColonModel(const Anatomy& anatomy, const ColonParams& params,
     throw std::invalid_argument("bending_EI_Nm2 and mesentery_stiffening_per_m2 must be >= 0");
   m.bending_EI_Nm2 = params.bending_EI_Nm2;
   m.mesentery_stiffening_per_m2 = params.mesentery_stiffening_per_m2;
+  if (!(params.compression_stiffness_fraction > 0) || !(params.compression_stiffness_fraction <= 1))
+    throw std::invalid_argument("compression_stiffness_fraction must be in (0, 1]");
+  m.compression_stiffness_fraction = params.compression_stiffness_fraction;
   m.gravity_m_per_s2 = gravityForPosition(params.patient_position, params.gravity_m_per_s2);
   m.tension_law = law ? law : std::make_shared<VoigtLaw>(params.tension_EA_N, params.tension_EC_Ns);
   integrateMatrices(m);

@@ -51,6 +51,10 @@ struct ColonParams {
   /// Extensions the paper leaves out (issue 7); 0 switches each off (the paper's model).
   double bending_EI_Nm2 = 0;              ///< bending rigidity EI of the colon wall [N m^2]
   double mesentery_stiffening_per_m2 = 0; ///< beta of the stiffening lifters k(d) = k0 (1 + beta d^2) [1/m^2]
+  /// Colon compression (not in the paper): the fraction of the tension law's stiffness a
+  /// tension element keeps when shortened (a thin-walled tube pleats under axial
+  /// compression); 1 is the paper's Voigt element, as stiff shortened as stretched [-].
+  double compression_stiffness_fraction = 1.0;
 };
 
 /// Gravity vector in the patient frame for a named position [m/s^2]; throws
@@ -84,6 +88,13 @@ struct ColonModel {
   // spline point displaced by d = |M(s) - M0(s)| from rest is k(d) = k0 (1 + beta d^2);
   // off (the paper's linear lifters, eqs. 4-5) when beta = 0.
   double mesentery_stiffening_per_m2 = 0; ///< beta [1/m^2]
+
+  // Colon compression (not in the paper): a shortened element (strain e < 0) gives the
+  // tension law's force at the strain c e, the rate term unchanged: F = EA c e + EC de/dt
+  // for the Voigt law, continuous at e = 0. c = 1 is the paper's element.
+  double compression_stiffness_fraction = 1.0;  ///< c [-], in (0, 1]
+  /// The strain the tension law is evaluated at: e in tension, c e shortened.
+  double lawStrain(double strain) const { return strain < 0 ? compression_stiffness_fraction * strain : strain; }
 
   ScalarBand mass;            ///< M (eq. 3), n x n [kg]
   ScalarBand mesentery_K;     ///< K (eq. 4), n x n [N/m]

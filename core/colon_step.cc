@@ -109,8 +109,9 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
     const Vec3 dv = s.v.col(e + 1) - s.v.col(e);
     const double strain = (l - l0) / l0;
     const double strain_rate = u.dot(dv) / l0;
-    const TensionResponse r =
-        m.tension_law->evaluate(strain, strain_rate, dt, zs ? &s.tension_internal[e * zs] : nullptr);
+    TensionResponse r =
+        m.tension_law->evaluate(m.lawStrain(strain), strain_rate, dt, zs ? &s.tension_internal[e * zs] : nullptr);
+    if (strain < 0) r.dforce_dstrain_N *= m.compression_stiffness_fraction;  // dF/de = c dF/d(c e)
     s.tension_force_N(e) = r.force_N;
     const Vec3 fe = r.force_N * u;  // pulls e+1 towards e and e towards e+1 in tension
     for (int c = 0; c < 3; ++c) {
@@ -237,7 +238,7 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
     for (int e = 0; e + 1 < n; ++e) {
       double strain, strain_rate;
       elementStrain(m, s, e, &strain, &strain_rate);
-      m.tension_law->advance(strain, strain_rate, dt, &s.tension_internal[e * zs]);
+      m.tension_law->advance(m.lawStrain(strain), strain_rate, dt, &s.tension_internal[e * zs]);
     }
   }
 }
@@ -251,8 +252,10 @@ ColonEnergy colonEnergy(const ColonModel& m, const ColonState& s) {
   for (int e = 0; e + 1 < m.n; ++e) {
     double strain, rate;
     elementStrain(m, s, e, &strain, &rate);
-    en.tension_J += m.rest_length_m(e) *
-                    m.tension_law->storedEnergy(strain, zs ? &s.tension_internal[e * zs] : nullptr);
+    // Shortened: the integral of F(c e) over e is (1/c) times the law's energy at c e.
+    const double scale = strain < 0 ? 1.0 / m.compression_stiffness_fraction : 1.0;
+    en.tension_J += scale * m.rest_length_m(e) *
+                    m.tension_law->storedEnergy(m.lawStrain(strain), zs ? &s.tension_internal[e * zs] : nullptr);
   }
   if (m.mesentery_stiffening_per_m2 > 0) {
     for (int j = 0; j + 1 < m.n; ++j)

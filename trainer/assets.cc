@@ -84,6 +84,9 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   // Extensions of issue 7 (core/colon_extensions.h); 0 is the paper's model.
   c.bending_EI_Nm2 = colon.quantity("bending_rigidity", "N m^2", 0.0, 10.0);
   c.mesentery_stiffening_per_m2 = colon.quantity("mesentery_stiffening", "1/m^2", 0.0, 1e6);
+  // Optional (files written before it: the paper's element, 1).
+  if (colon.has("compression_stiffness_fraction"))
+    c.compression_stiffness_fraction = colon.quantity("compression_stiffness_fraction", "1", 1e-3, 1.0);
   // An identified tension law (optional; trainer/tension_law_file.h): its EA and EC must be
   // the ones above, so that the file states one axial stiffness.
   if (colon.has("tension_law")) {

@@ -171,6 +171,78 @@ TEST(MesenteryStiffening, StaticSagSolvesTheCubicRhoGEqualsK0OnePlusBetaDSquared
   for (int i = 0; i < m.n; ++i) EXPECT_NEAR(m.q_rest(2, i) - s.q(2, i), d, 1e-7) << i;
 }
 
+TEST(ColonCompression, AShortenedElementPushesWithCEATimesStrainAndAStretchedOnePullsWithEA) {
+  const double ea = 28.9, c = 0.1;
+  ColonModel m = chain(straight(2), 0, 0, Vec3::Zero(), ea, 0.0);
+  m.compression_stiffness_fraction = c;
+  for (double strain : {-0.2, -0.05, 0.05, 0.2}) {
+    ColonState s = makeColonState(m);
+    s.q.col(1) = Vec3(0.015 * (1 + strain), 0, 0);
+    stepColon(m, s, 1e-9);  // a negligible step: the forces of the deformed state
+    const double expected = (strain < 0 ? c : 1.0) * ea * strain;
+    EXPECT_NEAR(s.tension_force_N(0), expected, 1e-12) << strain;
+    EXPECT_NEAR(s.force(3), -expected, 1e-12) << strain;
+    // Energy: the integral of the force over the element's length change.
+    const double energy_J = 0.5 * expected * strain * 0.015;
+    EXPECT_NEAR(colonEnergy(m, s).tension_J, energy_J, 1e-9 * energy_J) << strain;
+  }
+}
+
+TEST(ColonCompression, EndLoadsShorteningAStraightChainGiveEveryElementMinusPOverCEA) {
+  // A free straight chain pushed together by equal and opposite end loads P settles with
+  // every element at strain -P / (c EA) (it stays straight: no load across it).
+  const double ea = 28.9, c = 0.2, load = 0.5;
+  ColonModel m = chain(straight(12), 0, 0, Vec3::Zero(), ea, 0.5);
+  m.compression_stiffness_fraction = c;
+  ColonState s = makeColonState(m);
+  for (int k = 0; k < 20000; ++k) {
+    s.loads.clear();
+    SplineLoad a, b;
+    a.segment = 0, a.p = 0.0, a.force_N = Vec3(load, 0, 0);
+    b.segment = m.n - 2, b.p = 1.0, b.force_N = Vec3(-load, 0, 0);
+    s.loads.push_back(a);
+    s.loads.push_back(b);
+    stepColon(m, s, kDt);
+  }
+  for (int e = 0; e + 1 < m.n; ++e) {
+    double strain, rate;
+    elementStrain(m, s, e, &strain, &rate);
+    EXPECT_NEAR(strain, -load / (c * ea), 1e-6 * load / (c * ea)) << e;
+  }
+}
+
+TEST(ColonCompression, EnergyNeverIncreasesWithDampingAndSoftCompression) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  p.colon.compression_stiffness_fraction = 0.05;
+  test::expectEnergyNeverIncreases(buildColonModel(loadAnatomy(test::asset("anatomy/adult.json")), p.colon), 3000,
+                                   kDt, 11, 0.5);
+}
+
+TEST(ColonCompression, DefaultIsThePaperElementASofterOneMovesOtherwiseAndOutOfRangeIsRefused) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  EXPECT_EQ(p.colon.compression_stiffness_fraction, 1.0);  // the key is optional: absent, the paper's element
+  const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
+  const ColonModel m = buildColonModel(a, p.colon);
+  ColonModel soft = m;
+  soft.compression_stiffness_fraction = 0.3;
+  ColonState s = makeColonState(m), t = makeColonState(soft);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n01(0.0, 0.3);
+  for (int i = 0; i < m.n; ++i) {
+    const double x = n01(rng), y = n01(rng), z = n01(rng);
+    s.v.col(i) = t.v.col(i) = Vec3(x, y, z);
+  }
+  for (int k = 0; k < 200; ++k) {
+    stepColon(m, s, kDt);
+    stepColon(soft, t, kDt);
+  }
+  EXPECT_GT((s.q - t.q).cwiseAbs().maxCoeff(), 1e-6);
+  for (double bad : {0.0, -0.1, 1.5, std::nan("")}) {
+    p.colon.compression_stiffness_fraction = bad;
+    EXPECT_THROW(buildColonModel(a, p.colon), std::invalid_argument) << bad;
+  }
+}
+
 ColonModel adult(double EI, double beta) {
   Parameters p = loadParameters(test::asset("params/default.json"));
   p.colon.bending_EI_Nm2 = EI;

@@ -81,6 +81,22 @@ TEST(Assets, NegativeLengthIsRefused) {
   expectInputError([&] { loadAnatomy(a); }, {a, "regions[0].radius_m[0]", "out of range"});
 }
 
+TEST(Assets, CompressionStiffnessFractionIsOptionalAndWithinZeroToOne) {
+  test::TempDir dir;
+  const std::string key = "\"compression_stiffness_fraction\": {\n        \"value\": 1.0";
+  const std::string soft = dir.write("soft.json", paramsWith(key, "\"compression_stiffness_fraction\": {\"value\": 0.2"));
+  EXPECT_EQ(loadParameters(soft).colon.compression_stiffness_fraction, 0.2);
+  const std::string f = dir.write("p.json", paramsWith(key, "\"compression_stiffness_fraction\": {\"value\": 1.5"));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.compression_stiffness_fraction.value", "out of range"});
+  // Left out (parameter files written before it): the paper's element.
+  std::string text = test::readFile(test::asset("params/default.json"));
+  const auto a = text.find(",\n    \"compression_stiffness_fraction\"");
+  const auto b = text.find("}", text.find("\"note\"", a)) + 1;
+  ASSERT_NE(a, std::string::npos);
+  const std::string old = dir.write("old.json", text.erase(a, b - a));
+  EXPECT_EQ(loadParameters(old).colon.compression_stiffness_fraction, 1.0);
+}
+
 TEST(Assets, NaNAndInfinityAreRefused) {
   test::TempDir dir;
   const std::string nan = dir.write("nan.json", paramsWith("\"value\": 0.4", "\"value\": NaN"));

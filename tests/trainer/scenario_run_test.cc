@@ -100,10 +100,10 @@ TEST(ScenarioRuns, FreeInsertionHandleForcesOfTheClinicalOrder) {
   EXPECT_LE(r.peak_push_N, 60.0);
   EXPECT_LT(r.peak_pull_N, 30.0);
   EXPECT_LT(r.peak_torque_Nm, 2.0);
-  // The tip gets round the hepatic flexure into the ascending colon (it starts at 1.40 m
-  // of the 1.55 m colon). The caecal pole (within 3 cm, time_to_caecum_s) is not reached
-  // yet: README, "Not done yet".
-  EXPECT_GE(r.max_tip_arclength_m, 1.40);
+  // The tip gets round the hepatic flexure into the ascending colon (which starts 1.39 m
+  // along the 1.60 m colon; measured: 1.49 m). The caecal pole (within 3 cm,
+  // time_to_caecum_s) is not reached yet: README, "Not done yet".
+  EXPECT_GE(r.max_tip_arclength_m, 1.45);
 }
 
 }  // namespace
