@@ -1,5 +1,5 @@
-// A check shared by the colon step's tests and its extensions' tests: with damping, the
-// colon's mechanical energy never increases, step after step.
+// Shared by the colon step's tests and its extensions' tests: with damping, the colon's
+// mechanical energy never increases, step after step; and a chain held by end loads.
 #pragma once
 
 #include <random>
@@ -28,6 +28,20 @@ inline void expectEnergyNeverIncreases(const ColonModel& m, int steps, double dt
     const double e = colonEnergy(m, s).total();
     ASSERT_LE(e, e_prev + 1e-12) << "step " << k;
     e_prev = e;
+  }
+}
+
+/// Steps a straight chain along x `steps` times at dt_s [s] with equal and opposite loads
+/// on its two ends, `pull_N` [N] outwards (negative: pushing the ends together).
+inline void stepUnderEndLoads(const ColonModel& m, ColonState& s, double pull_N, int steps, double dt_s) {
+  for (int k = 0; k < steps; ++k) {
+    s.loads.clear();
+    SplineLoad a, b;
+    a.segment = 0, a.p = 0.0, a.force_N = Vec3(-pull_N, 0, 0);
+    b.segment = m.n - 2, b.p = 1.0, b.force_N = Vec3(pull_N, 0, 0);
+    s.loads.push_back(a);
+    s.loads.push_back(b);
+    stepColon(m, s, dt_s);
   }
 }
 

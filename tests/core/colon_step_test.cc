@@ -53,15 +53,7 @@ TEST(ColonStep, EndLoadsStretchEveryElementToLoadOverEA) {
   const double ea = 28.9, load = 2.0;
   const ColonModel m = straightColon(12, 0, 0, Vec3::Zero(), ea, 0.5);
   ColonState s = makeColonState(m);
-  for (int k = 0; k < 20000; ++k) {
-    s.loads.clear();
-    SplineLoad a, b;
-    a.segment = 0, a.p = 0.0, a.force_N = Vec3(-load, 0, 0);
-    b.segment = m.n - 2, b.p = 1.0, b.force_N = Vec3(load, 0, 0);
-    s.loads.push_back(a);
-    s.loads.push_back(b);
-    stepColon(m, s, kDt);
-  }
+  test::stepUnderEndLoads(m, s, load, 20000, kDt);
   for (int e = 0; e + 1 < m.n; ++e) {
     double strain, rate;
     elementStrain(m, s, e, &strain, &rate);
