@@ -12,7 +12,8 @@
 // tip is within 2.5 cm of the caecal pole. The simulation is stepped with the script's own
 // interpolation (scriptedInput), so OUT.json replays the same run (colosim run OUT.json).
 // The settings are environment variables (defaults: LOOKAHEAD_M 0.05, WINDOW_S 10,
-// LOOP_M 0.15, WITHDRAW_M 0.3, BACK_M 0.02); VERBOSE=1 prints the state every 10 s.
+// LOOP_M 0.15, WITHDRAW_M 0.3, BACK_M 0.02; PULL_MAX_N, off by default: the withdrawal
+// pauses while the handle pulls harder, and after 2 s of pausing it advances again); VERBOSE=1 prints the state every 10 s.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -65,12 +66,13 @@ int main(int argc, char** argv) {
   const double key_dt = 0.5, speed = 0.02, max_in = (sm.segment_count - 1) * sm.h_m;
   const double lookahead_m = knob("LOOKAHEAD_M", 0.05), window_s = knob("WINDOW_S", 10.0);
   const double loop_m = knob("LOOP_M", 0.15), withdraw_m = knob("WITHDRAW_M", 0.30), back_m = knob("BACK_M", 0.02);
+  const double pull_max_N = knob("PULL_MAX_N", 1e9);
   const size_t window = static_cast<size_t>(std::lround(window_s / key_dt)) + 1;
   enum { kAdvance, kWithdraw, kDone } mode = kAdvance;
   std::deque<std::pair<double, double>> history;  // (insertion, tip arclength) per keyframe, last 4 s
   double withdraw_from_L = 0, withdraw_from_s = 0;
   long k = 0;
-  int withdrawals = 0;
+  int withdrawals = 0, paused = 0;
   for (double t = 0; t < end_s - 1e-9; t += key_dt) {
     const WorldState& st = sim.state();
     const Telemetry tel = sim.telemetry();
@@ -106,6 +108,7 @@ int main(int argc, char** argv) {
       const bool stalled_at_end = history.size() == window && L > max_in - 0.005 && std::abs(ds) < 0.01;
       if (looping || stalled_at_end) {
         mode = kWithdraw;
+        paused = 0;
         withdraw_from_L = L, withdraw_from_s = s_tip;
         ++withdrawals;
         std::printf("t %.1f s: withdraw (insertion %.3f m, tip %.3f m, slack %.3f m)\n", t, L, s_tip, L - s_tip);
@@ -118,7 +121,20 @@ int main(int argc, char** argv) {
       }
     }
     if (mode == kAdvance) next.insertion_m = round4(std::min(max_in, L + speed * key_dt));
-    if (mode == kWithdraw) next.insertion_m = round4(std::max(0.0, L - speed * key_dt));
+    // An expert does not pull harder than PULL_MAX_N: the withdrawal pauses while the
+    // handle pulls more than that.
+    // After 2 s of pausing it advances again.
+    if (mode == kWithdraw) {
+      if (!(st.scope.handle.force_N < -pull_max_N)) {
+        next.insertion_m = round4(std::max(0.0, L - speed * key_dt));
+      } else if (++paused >= 4) {
+        mode = kAdvance;
+        history.clear();
+        std::printf("t %.1f s: advance after pulling %.1f N (insertion %.3f m, tip %.3f m)\n", t,
+                    -st.scope.handle.force_N, L, s_tip);
+        next.insertion_m = round4(std::min(max_in, L + speed * key_dt));
+      }
+    }
     Keyframe kf;
     kf.t_s = round4(t + key_dt);
     kf.input = next;
