@@ -10,6 +10,7 @@
 #include "core/scope_step.h"
 #include "fixture.h"
 #include "trainer/assets.h"
+#include "tests/random_vec3.h"
 
 namespace colosim {
 namespace {
@@ -36,10 +37,12 @@ WorldModel worldFromPoints(const Points& q, double radius, double k, double c, c
 // displaced sideways and turned, so that some interaction points lie outside the lumen.
 void randomPose(const WorldModel& m, WorldState& s, std::mt19937& rng) {
   std::uniform_real_distribution<double> depth(0.2, 1.5), u(-1, 1);
-  threadScopeAlongColon(m, s, depth(rng), 3 * u(rng));
+  const double turn_rad = 3 * u(rng);  // drawn first, then the depth: the same poses with every compiler
+  const double depth_m = depth(rng);
+  threadScopeAlongColon(m, s, depth_m, turn_rad);
   for (int k = 0; k < s.scope.inside; ++k) {
-    s.scope.p_W[k] += 0.012 * Vec3(u(rng), u(rng), u(rng));
-    s.scope.R_WS[k] = expSO3(0.3 * Vec3(u(rng), u(rng), u(rng))) * s.scope.R_WS[k];
+    s.scope.p_W[k] += 0.012 * test::randomVec3(u, rng);
+    s.scope.R_WS[k] = expSO3(0.3 * test::randomVec3(u, rng)) * s.scope.R_WS[k];
   }
 }
 
@@ -170,8 +173,8 @@ TEST(ContactForces, ActionEqualsReaction) {
   WorldState s = makeWorldState(m);
   randomPose(m, s, rng);
   std::uniform_real_distribution<double> u(-0.05, 0.05);
-  for (int k = 0; k < s.scope.inside; ++k) s.scope.v_W[k] = Vec3(u(rng), u(rng), u(rng));
-  for (int i = 0; i < m.colon.n; ++i) s.colon.v.col(i) = Vec3(u(rng), u(rng), u(rng));
+  for (int k = 0; k < s.scope.inside; ++k) s.scope.v_W[k] = test::randomVec3(u, rng);
+  for (int i = 0; i < m.colon.n; ++i) s.colon.v.col(i) = test::randomVec3(u, rng);
   FclContactQuery q(m);
   q.findWallContacts(m, s);
   ASSERT_GT(s.wall.size(), 10u);

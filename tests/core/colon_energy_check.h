@@ -9,6 +9,7 @@
 #include "core/colon_model.h"
 #include "core/colon_state.h"
 #include "core/colon_step.h"
+#include "tests/random_vec3.h"
 
 namespace colosim::test {
 
@@ -21,7 +22,7 @@ inline void expectEnergyNeverIncreases(const ColonModel& m, int steps, double dt
   ColonState s = makeColonState(m);
   std::mt19937 rng(seed);
   std::normal_distribution<double> n01(0.0, kick_m_per_s);
-  for (int i = 0; i < m.n; ++i) s.v.col(i) = Vec3(n01(rng), n01(rng), n01(rng));
+  for (int i = 0; i < m.n; ++i) s.v.col(i) = randomVec3(n01, rng);
   double e_prev = colonEnergy(m, s).total();
   for (int k = 0; k < steps; ++k) {
     stepColon(m, s, dt_s);

@@ -12,6 +12,7 @@
 #include "tests/core/colon_energy_check.h"
 #include "fixture.h"
 #include "trainer/assets.h"
+#include "tests/random_vec3.h"
 
 namespace colosim {
 namespace {
@@ -69,7 +70,7 @@ TEST(ColonBending, ForceIsMinusTheEnergyGradientAndTheTangentIsPositiveSemidefin
   const double EI = 0.05, L = 0.015;
   for (int trial = 0; trial < 50; ++trial) {
     std::array<Vec3, 3> q = {Vec3(-0.015, 0, 0), Vec3::Zero(), Vec3(0.015, 0, 0)};
-    for (auto& p : q) p += Vec3(u(rng), u(rng), u(rng));
+    for (auto& p : q) p += test::randomVec3(u, rng);
     const double theta0 = 0.5 * (trial % 3);
     const BendingResponse r = bendingAtPoint(q[0], q[1], q[2], theta0, EI, L);
     const double h = 1e-7;

@@ -7,6 +7,7 @@
 #include "tests/core/colon_energy_check.h"
 #include "fixture.h"
 #include "trainer/assets.h"
+#include "tests/random_vec3.h"
 
 namespace colosim {
 namespace {
@@ -101,7 +102,7 @@ TEST(ColonStep, StableWithAWholeTubeAxialRigidity) {
   ColonState s = makeColonState(m);
   std::mt19937 rng(12);
   std::normal_distribution<double> n01(0.0, 0.5);
-  for (int i = 0; i < m.n; ++i) s.v.col(i) = Vec3(n01(rng), n01(rng), n01(rng));
+  for (int i = 0; i < m.n; ++i) s.v.col(i) = test::randomVec3(n01, rng);
   const double e0 = colonEnergy(m, s).total();
   for (int k = 0; k < 5000; ++k) stepColon(m, s, kDt);
   ASSERT_TRUE(s.q.allFinite());

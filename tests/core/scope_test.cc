@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "core/rotation.h"
+#include "tests/random_vec3.h"
 
 namespace colosim {
 namespace {
@@ -172,7 +173,7 @@ TEST(Scope, StableAtOneMillisecondAndDissipative) {
   ScopeState s = insertAndHold(m, 0.8, 0.5, 0.0);
   std::mt19937 rng(3);
   std::normal_distribution<double> n01(0.0, 20.0);
-  for (int k = 0; k < s.inside; ++k) s.w_W[k] = Vec3(n01(rng), n01(rng), n01(rng));
+  for (int k = 0; k < s.inside; ++k) s.w_W[k] = test::randomVec3(n01, rng);
   const double e0 = scopeKineticEnergy(m, s);
   HandleInput in = s.input;
   double e_max = 0;

@@ -3,6 +3,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include "tests/random_vec3.h"
 
 namespace colosim {
 namespace {
@@ -10,7 +11,7 @@ namespace {
 Points randomPoints(int n, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-0.1, 0.1);
   Points q(3, n);
-  for (int i = 0; i < n; ++i) q.col(i) = Vec3(0.05 * i + u(rng), u(rng), u(rng));
+  for (int i = 0; i < n; ++i) q.col(i) = Vec3(0.05 * i, 0, 0) + test::randomVec3(u, rng);
   return q;
 }
 
@@ -102,7 +103,7 @@ TEST(Spline, ClosestPointMatchesDenseSamplingAndStaysInRange) {
   std::uniform_real_distribution<double> u(-0.2, 0.4);
   const Points q = randomPoints(8, rng);
   for (int trial = 0; trial < 300; ++trial) {
-    const Vec3 x(u(rng), u(rng), u(rng));
+    const Vec3 x = test::randomVec3(u, rng);
     const int j = trial % 7;
     const ClosestPoint c = closestPointOnSegment(q, j, x);
     ASSERT_GE(c.p, 0.0);
