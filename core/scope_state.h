@@ -36,7 +36,7 @@ struct ScopeState {
   /// The first outside segment when it left the chain bent (withdrawn), else -1: it comes
   /// out pivoting about the anus and straightens as it does (see exitPose()).
   int tilted_segment = -1;
-  Vec3 tilt_rad = Vec3::Zero();  ///< its rotation from the straight pose when it left, in its own frame [rad]
+  Vec3 tilt_rad = Vec3::Zero();  ///< its rotation from the straight pose when it left: a world rotation vector [rad]
   HandleInput input;       ///< the outside part's pose after the last step: the handle inputs, clamped, less the grip slip
   double grip_slip_m = 0;    ///< commanded minus actual insertion: how far the grip has slipped along the tube [m]
   double grip_slip_rad = 0;  ///< commanded minus actual rotation [rad]
@@ -76,7 +76,8 @@ void kinematicPose(const ScopeModel& model, int k, double insertion_m, double ro
                    Vec3* p_W, Mat3* R_WS);
 
 /// The pose of segment k when it is the first outside segment and left the chain turned by
-/// `tilt_rad` from its straight pose (in its own frame) [rad]: its axis passes through the
+/// `tilt_rad` from its straight pose (a world rotation vector, applied after the handle's
+/// turn, so that turning the handle spins the segment about its own axis) [rad]: its axis passes through the
 /// anus and the tilt fades linearly as its length comes out, from all of it when its
 /// proximal end is at the anus (insertion (k+1) h) to none when its distal end is
 /// (insertion k h), where it matches kinematicPose().

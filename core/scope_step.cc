@@ -42,8 +42,6 @@ void kinematicPose(const ScopeModel& m, int k, double L, double phi, Vec3* p, Ma
 void exitPose(const ScopeModel& m, int k, double L, double phi, const Vec3& tilt_rad, Vec3* p, Mat3* R) {
   const Vec3 e = m.R_W_entry.col(2);
   const double out = std::clamp(((k + 1) * m.h_m - L) / m.h_m, 0.0, 1.0);  // fraction of its length outside
-  // The tilt is a world rotation applied after the handle's turn, so that turning the
-  // handle spins the segment about its own (tilted) axis.
   *R = expSO3((1.0 - out) * tilt_rad) * expSO3(phi * e) * m.R_W_entry;
   *p = m.p_W_anus + (L - (k + 0.5) * m.h_m) * R->col(2);
 }
