@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
   const double pull_max_N = knob("PULL_MAX_N", 1e9);
   const size_t window = static_cast<size_t>(std::lround(window_s / key_dt)) + 1;
   enum { kAdvance, kWithdraw, kDone } mode = kAdvance;
-  std::deque<std::pair<double, double>> history;  // (insertion, tip arclength) per keyframe, last 4 s
+  std::deque<std::pair<double, double>> history;  // (insertion, tip arclength) per keyframe, over WINDOW_S
   double withdraw_from_L = 0, withdraw_from_s = 0;
   long k = 0;
   int withdrawals = 0, paused = 0;
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     if (history.size() > window) history.pop_front();
     HandleInput next = cur;
     // Steering: the knobs that turn the tip (from the shaft behind the bending section)
-    // towards the centreline 5 cm ahead.
+    // towards the centreline LOOKAHEAD_M ahead.
     if (st.scope.inside > sm.bending_joints + 1) {
       const Vec3 tip = tipPosition(sm, st.scope);
       const Vec3 target = centrelineAt(cm, st.colon.q, s_tip + lookahead_m);
@@ -100,6 +100,12 @@ int main(int argc, char** argv) {
     if (std::getenv("VERBOSE") && std::fmod(t, 10.0) < 1e-9)
       std::printf("t %.1f s: insertion %.3f m, tip %.3f m along the colon, %.3f m from the pole, handle %.1f N, knobs %.2f %.2f\n",
                   t, L, s_tip, tel.tip_to_caecum_m, st.scope.handle.force_N, cur.knob_updown_rad, cur.knob_leftright_rad);
+    auto advanceAgain = [&](const char* why) {
+      mode = kAdvance;
+      history.clear();
+      std::printf("t %.1f s: advance%s (insertion %.3f m, tip %.3f m, handle %.1f N)\n", t, why, L, s_tip,
+                  st.scope.handle.force_N);
+    };
     if (tel.tip_to_caecum_m < 0.025) mode = kDone;
     if (mode == kAdvance) {
       const double dL = L - history.front().first, ds = s_tip - history.front().second;
@@ -113,28 +119,20 @@ int main(int argc, char** argv) {
         ++withdrawals;
         std::printf("t %.1f s: withdraw (insertion %.3f m, tip %.3f m, slack %.3f m)\n", t, L, s_tip, L - s_tip);
       }
-    } else if (mode == kWithdraw) {
-      if (withdraw_from_L - L >= withdraw_m || s_tip < withdraw_from_s - back_m) {
-        mode = kAdvance;
-        history.clear();
-        std::printf("t %.1f s: advance (insertion %.3f m, tip %.3f m)\n", t, L, s_tip);
+    } else if (mode == kWithdraw && (withdraw_from_L - L >= withdraw_m || s_tip < withdraw_from_s - back_m)) {
+      advanceAgain("");
+    }
+    // An expert does not pull harder than PULL_MAX_N: the withdrawal pauses while the handle
+    // pulls more than that, and after 2 s of pausing it advances again.
+    if (mode == kWithdraw) {
+      const bool pulling_hard = st.scope.handle.force_N < -pull_max_N;
+      if (!pulling_hard) {
+        next.insertion_m = round4(std::max(0.0, L - speed * key_dt));
+      } else if (++paused >= 4) {
+        advanceAgain(" after pulling hard");
       }
     }
     if (mode == kAdvance) next.insertion_m = round4(std::min(max_in, L + speed * key_dt));
-    // An expert does not pull harder than PULL_MAX_N: the withdrawal pauses while the
-    // handle pulls more than that.
-    // After 2 s of pausing it advances again.
-    if (mode == kWithdraw) {
-      if (!(st.scope.handle.force_N < -pull_max_N)) {
-        next.insertion_m = round4(std::max(0.0, L - speed * key_dt));
-      } else if (++paused >= 4) {
-        mode = kAdvance;
-        history.clear();
-        std::printf("t %.1f s: advance after pulling %.1f N (insertion %.3f m, tip %.3f m)\n", t,
-                    -st.scope.handle.force_N, L, s_tip);
-        next.insertion_m = round4(std::min(max_in, L + speed * key_dt));
-      }
-    }
     Keyframe kf;
     kf.t_s = round4(t + key_dt);
     kf.input = next;
