@@ -3,9 +3,13 @@
 // runs the scenario as `colosim run` does and, at each time T_S [s], prints per colon region
 // the scope length lying in it (segments by the nearest colon control point), the region's present and rest arclength (shortened: pleated
 // onto the scope), the wall contact force on its scope segments and the scope's axial force
-// where it enters the region (the joint penalty along the axis: + compression); then per
-// scope segment, tip first, the same at segment resolution.
+// where it enters the region (the joint penalty along the axis: negative in compression,
+// positive in tension); then per scope segment, tip first, the same at segment resolution
+// (SEGMENTS=1) with the joint's bend, the segment's centre and axis; CONTACTS=1 lists the
+// wall contacts of the last 6 segments and the tracked colon segment of each interaction
+// point of the last 10 (what collision/contact_query.cc tracks: docs/hardening.md).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -44,7 +48,7 @@ int main(int argc, char** argv) {
     }
     for (const WallContact& c : st.wall)
       if (c.scope_segment < s.inside) contact[c.scope_segment] += c.force_N;
-    auto axial = [&](int j) {  // joint j (segment j to j+1): + when the scope is compressed there
+    auto axial = [&](int j) {  // joint j (segment j to j+1): - when the scope is compressed there, + in tension
       const double h = sm.h_m;
       const Vec3 gap = (s.p_W[j] - 0.5 * h * s.R_WS[j].col(2)) - (s.p_W[j + 1] + 0.5 * h * s.R_WS[j + 1].col(2));
       return sm.params.joint_stiffness_N_per_m * gap.dot(s.R_WS[j].col(2));
@@ -71,8 +75,27 @@ int main(int argc, char** argv) {
     }
     if (std::getenv("SEGMENTS"))
       for (int j = 0; j < s.inside; ++j)
-        std::printf("    seg %3d %-16s contact %6.2f N axial %7.2f N\n", j,
-                    region[j] >= 0 ? cm.region_names[region[j]].c_str() : "-", contact[j], axial(j));
+        std::printf("    seg %3d %-16s contact %6.2f N axial %7.2f N bend %6.1f deg  p %.3f %.3f %.3f  z %.2f %.2f %.2f\n", j,
+                    region[j] >= 0 ? cm.region_names[region[j]].c_str() : "-", contact[j], axial(j),
+                    j + 1 < s.inside ? std::acos(std::clamp(s.R_WS[j].col(2).dot(s.R_WS[j + 1].col(2)), -1.0, 1.0)) *
+                                           180.0 / 3.141592653589793
+                                     : 0.0,
+                    s.p_W[j].x(), s.p_W[j].y(), s.p_W[j].z(), s.R_WS[j].col(2).x(), s.R_WS[j].col(2).y(),
+                    s.R_WS[j].col(2).z());
+    if (std::getenv("CONTACTS"))
+      for (const WallContact& c : st.wall)
+        if (c.scope_segment >= s.inside - 6)
+          std::printf("    contact seg %d pt %d colon seg %d p %.3f depth %.4f N %.2f n %.2f %.2f %.2f axis.n %.2f\n",
+                      c.scope_segment, c.point, c.colon_segment, c.p, c.depth_m, c.force_N, c.normal_W.x(),
+                      c.normal_W.y(), c.normal_W.z(), c.normal_W.dot(s.R_WS[c.scope_segment].col(2)));
+    if (std::getenv("CONTACTS")) {
+      const int P = static_cast<int>(sm.interaction_points_S.size());
+      for (int j = std::max(0, s.inside - 10); j < s.inside; ++j) {
+        std::printf("    tracks seg %d:", j);
+        for (int i = 0; i < P; ++i) std::printf(" %d", st.track[static_cast<size_t>(j * P + i)].colon_segment);
+        std::printf("\n");
+      }
+    }
   }
   return 0;
 }
