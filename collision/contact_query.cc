@@ -49,6 +49,31 @@ inline void recordIfOutside(const WorldModel& m, const std::vector<SegmentCubic>
   out.push_back(c);
 }
 
+// The local minimum of the distance from x along the spline, walking from segment `start`
+// (-1: none found): while the minimum sits at a segment end, try the next segment.
+Nearest walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3& x, int start) {
+  Nearest local;
+  if (start < 0) return local;
+  const int nseg = static_cast<int>(cubics.size());
+  int j = std::min(start, nseg - 1);
+  consider(cubics, j, x, local);
+  int lo = j, hi = j;
+  for (int it = 0; it < nseg; ++it) {
+    if (local.p <= 0.0 && lo > 0) {
+      const Nearest before = local;
+      consider(cubics, --lo, x, local);
+      if (local.j == before.j) break;
+    } else if (local.p >= 1.0 && hi < nseg - 1) {
+      const Nearest before = local;
+      consider(cubics, ++hi, x, local);
+      if (local.j == before.j) break;
+    } else {
+      break;
+    }
+  }
+  return local;
+}
+
 void resetOutsideTracks(const WorldModel& m, WorldState& s) {
   const size_t P = m.scope.interaction_points_S.size();
   for (size_t t = static_cast<size_t>(s.scope.inside) * P; t < s.track.size(); ++t) s.track[t] = WallTrack();
@@ -147,6 +172,8 @@ struct FclContactQuery::Impl {
   std::vector<int> fill;
   std::vector<std::pair<int, int>> grouped;
   std::vector<std::pair<double, int>> order;
+  std::vector<Nearest> axes;  // per scope segment and slice: the slice centre's spline location
+  std::vector<char> moved;    // ... and whether it was taken back to the scope's path
 };
 
 FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager) : impl_(new Impl) {
@@ -253,18 +280,48 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
     std::sort(I.grouped.begin() + I.first[k], I.grouped.begin() + I.first[k + 1]);
   I.pairs.swap(I.grouped);
 
-  // Narrowphase per slice: first the slice's centre on the scope axis; when the whole
-  // ring is provably inside the lumen (centre distance + scope radius <= the smallest
-  // nearby radius) no interaction point of the slice can touch the wall: skip it.
-  s.wall.clear();
+  // Narrowphase per slice: first the slice's centre on the scope axis, from the anus to the
+  // tip. The scope runs inside the colon from the anus, so a slice lies next to the same
+  // slice of its proximal neighbour (h along the scope) along the colon too. When its
+  // tracked location is a far part of the colon from the neighbour's (the tracking kept
+  // another part lying against the one the scope is in: docs/hardening.md, "Contact
+  // tracking") and the centre lies deeper in the lumen next to the neighbour's location
+  // (and within reach of it), that lumen is the slice's: the far-part rule of
+  // nearestRobust then keeps its points there.
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
   const int per_slice = m.scope.params.points_per_slice;
+  const int slices = P / per_slice;
+  I.axes.assign(static_cast<size_t>(s.scope.inside) * slices, Nearest());
+  I.moved.assign(I.axes.size(), 0);
+  for (int k = s.scope.inside - 1; k >= 0; --k) {
+    for (int sl = 0; sl < slices; ++sl) {
+      const int first = sl * per_slice;
+      const Vec3 centre = s.scope.p_W[k] + s.scope.R_WS[k] * Vec3(0, 0, m.scope.interaction_points_S[first].z());
+      Nearest axis = nearestRobust(m, centre, s.track[k * P + first].colon_segment, I.first[k], I.first[k + 1]);
+      const Nearest before = k + 1 < s.scope.inside ? I.axes[(k + 1) * slices + sl] : Nearest();
+      if (axis.j >= 0 && before.j >= 0) {
+        const double ds = std::abs(colon.arclengthAt(axis.j, axis.p) - colon.arclengthAt(before.j, before.p));
+        if (ds > m.contact.self_neighbour_radii * colon.radiusAt(before.j, before.p)) {
+          const Nearest path = walkToNearest(I.cubics, centre, before.j);
+          const double path_depth = path.d - colon.radiusAt(path.j, path.p);
+          if (path_depth <= m.contact.query_margin_m && path_depth < axis.d - colon.radiusAt(axis.j, axis.p)) {
+            axis = path;
+            I.moved[k * slices + sl] = 1;
+          }
+        }
+      }
+      I.axes[k * slices + sl] = axis;
+    }
+  }
+  // Then each slice's points, from the tip: when the whole ring is provably inside the
+  // lumen (centre distance + scope radius <= the smallest nearby radius) no interaction
+  // point of the slice can touch the wall: skip it.
+  s.wall.clear();
   for (int k = 0; k < s.scope.inside; ++k) {
     const int c0 = I.first[k], c1 = I.first[k + 1];
     for (int first = 0; first < P; first += per_slice) {
-      const Vec3 centre_S(0, 0, m.scope.interaction_points_S[first].z());
-      const Vec3 centre = s.scope.p_W[k] + s.scope.R_WS[k] * centre_S;
-      const Nearest axis = nearestRobust(m, centre, s.track[k * P + first].colon_segment, c0, c1);
+      const Nearest& axis = I.axes[k * slices + first / per_slice];
+      const bool moved = I.moved[k * slices + first / per_slice];
       double r_min = -kInf;  // the smallest lumen radius around the slice's location [m]
       Vec3 axis_point = Vec3::Zero();
       if (axis.j >= 0) {
@@ -287,7 +344,7 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
           track = {axis.j, axis.p};
           continue;
         }
-        const int start = track.colon_segment >= 0 ? track.colon_segment : axis.j;
+        const int start = (track.colon_segment >= 0 && !moved) ? track.colon_segment : axis.j;
         const Nearest best = nearestRobust(m, x, start, c0, c1);
         track = {best.j, best.p};
         recordIfOutside(m, I.cubics, k, i, x, best, s.wall);
@@ -302,26 +359,8 @@ Nearest FclContactQuery::nearestRobust(const WorldModel& m, const Vec3& x, int s
   const ColonModel& colon = m.colon;
   const int nseg = colon.n - 1;
   // 1. Walk along the spline from the start segment (the tracked location) to the local
-  //    minimum of the distance: while the minimum sits at a segment end, try the next one.
-  Nearest local;
-  if (start >= 0) {
-    int j = std::min(start, nseg - 1);
-    consider(I.cubics, j, x, local);
-    int lo = j, hi = j;
-    for (int it = 0; it < nseg; ++it) {
-      if (local.p <= 0.0 && lo > 0) {
-        const Nearest before = local;
-        consider(I.cubics, --lo, x, local);
-        if (local.j == before.j) break;
-      } else if (local.p >= 1.0 && hi < nseg - 1) {
-        const Nearest before = local;
-        consider(I.cubics, ++hi, x, local);
-        if (local.j == before.j) break;
-      } else {
-        break;
-      }
-    }
-  }
+  //    minimum of the distance.
+  const Nearest local = walkToNearest(I.cubics, x, start);
   // 2. Other parts of the colon near x (broadphase candidates off the walked stretch),
   //    closest bounds first, skipping those whose bounds are farther than the best so far.
   I.order.clear();

@@ -167,6 +167,47 @@ TEST(ContactQuery, RobustQueryStaysOnTheTrackedPartOfALoop) {
   EXPECT_TRUE(found);
 }
 
+// The other way round: a segment whose tracks were carried to part B of the hairpin while
+// the scope lies in part A (its neighbour towards the anus tracked in A). Its slices lie
+// deeper in A, so the query takes them back to A and the point pressed 2 mm beyond A's wall
+// touches it; kept in B (what the far-part rule alone did) the point is inside B's lumen
+// and the wall pushing the scope back is missing (docs/hardening.md, "Contact tracking").
+TEST(ContactQuery, TracksCarriedToAnotherPartComeBackToTheScopesPath) {
+  const double r = 0.017;
+  const WorldModel m = worldFromPoints(hairpin(r), r, 1000, 20, Vec3::Zero());
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, 0.12);
+  const int k = 0;
+  s.scope.R_WS[k].col(0) = Vec3(0, 1, 0);
+  s.scope.R_WS[k].col(1) = Vec3(0, 0, 1);
+  s.scope.R_WS[k].col(2) = Vec3(1, 0, 0);
+  const Vec3 top_S = m.scope.interaction_points_S[0];
+  s.scope.p_W[k] = Vec3(0.1, r + 0.002 - top_S.x(), 0) - s.scope.R_WS[k] * Vec3(0, 0, top_S.z());
+  FclContactQuery fcl(m);
+  fcl.findWallContacts(m, s);  // every segment tracked where it lies, in part A
+  const int P = static_cast<int>(m.scope.interaction_points_S.size());
+  for (int i = 0; i < P; ++i) ASSERT_LT(m.colon.arclengthAt(s.track[k * P + i].colon_segment, s.track[k * P + i].p), 0.2);
+  ASSERT_LT(m.colon.arclengthAt(s.track[(k + 1) * P].colon_segment, s.track[(k + 1) * P].p), 0.2);
+
+  // Segment k's tracks carried to part B, opposite x = 0.1 m.
+  int b_segment = -1;
+  for (int j = 0; j + 1 < m.colon.n; ++j)
+    if (m.colon.s_rest_m(j) > 0.25 && std::abs(s.colon.q(0, j) - 0.1) < 0.008) b_segment = j;
+  ASSERT_GE(b_segment, 0);
+  for (int i = 0; i < P; ++i) s.track[k * P + i] = {b_segment, 0.5};
+  fcl.findWallContacts(m, s);
+  bool found = false;
+  for (const WallContact& c : s.wall) {
+    if (c.scope_segment != k || c.point != 0) continue;
+    found = true;
+    EXPECT_LT(m.colon.arclengthAt(c.colon_segment, c.p), 0.2);  // part A
+    EXPECT_NEAR(c.depth_m, 0.002, 1e-6);
+    EXPECT_GT(c.normal_W.y(), 0.99);
+  }
+  EXPECT_TRUE(found);
+  for (int i = 0; i < P; ++i) EXPECT_LT(m.colon.arclengthAt(s.track[k * P + i].colon_segment, s.track[k * P + i].p), 0.2);
+}
+
 TEST(ContactForces, ActionEqualsReaction) {
   const WorldModel m = adultWorld();
   std::mt19937 rng(5);
