@@ -37,9 +37,7 @@ double mesenteryStretch(const ColonModel& model, const ColonState& state) {
 }
 
 ColonOnlySimulation::ColonOnlySimulation(const Scenario& scenario) : dt_s_(scenario.dt_s) {
-  Parameters params = loadParameters(scenario.params_path);
-  if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
-  model_ = loadColonModel(scenario.anatomy_path, params);
+  model_ = loadColonModel(scenario.anatomy_path, scenarioParameters(scenario));
   state_ = makeColonState(model_);
   if (scenario.start.kind == "settled") {
     const long settle_steps = std::lround(scenario.start.settle_s / dt_s_);

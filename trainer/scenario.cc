@@ -85,6 +85,8 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
   if (top.has("overrides")) {
     JsonObject o = top.object("overrides");
     if (o.has("wall_friction")) s.overrides.wall_friction = o.number("wall_friction", 0.0, 2.0);
+    if (o.has("colon_axial_rigidity_N"))
+      s.overrides.colon_axial_rigidity_N = o.number("colon_axial_rigidity_N", 1.0, 1e5);
     if (o.has("patient_position"))
       s.overrides.patient_position = o.choice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
     o.finish();
@@ -212,10 +214,22 @@ HandleInput scriptedInput(const std::vector<Keyframe>& script, double t_s) {
   return in;
 }
 
+InputError scenarioError(const std::string& file, const std::string& message) {
+  std::ifstream in(file);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return InputError(addLineToMessage(message, file, text));
+}
+
 Parameters scenarioParameters(const Scenario& scenario) {
   Parameters params = loadParameters(scenario.params_path);
   if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
   if (scenario.overrides.wall_friction) params.contact.friction_coefficient = *scenario.overrides.wall_friction;
+  if (scenario.overrides.colon_axial_rigidity_N) {
+    if (params.tension_law)
+      throw scenarioError(scenario.file, scenario.file + ": overrides.colon_axial_rigidity_N: " + scenario.params_path +
+                                             " carries a tension law (colon.tension_law) with its own EA");
+    params.colon.tension_EA_N = *scenario.overrides.colon_axial_rigidity_N;
+  }
   return params;
 }
 
@@ -226,6 +240,7 @@ std::optional<double> useParameterFile(Scenario& scenario, const std::string& pa
   scenario.params_replaced = true;
   const std::optional<double> dropped = scenario.overrides.wall_friction;
   scenario.overrides.wall_friction.reset();
+  scenario.overrides.colon_axial_rigidity_N.reset();
   return dropped;
 }
 

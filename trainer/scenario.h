@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/handle_input.h"
+#include "core/input_error.h"
 #include "core/spline.h"
 #include "trainer/assets.h"
 #include "trainer/score.h"
@@ -45,6 +46,10 @@ struct ScenarioStart {
 struct ScenarioOverrides {
   std::optional<double> wall_friction;            ///< scope-mucosa friction coefficient [-] (default 0.1)
   std::optional<std::string> patient_position;    ///< left_lateral | right_lateral | supine | prone
+  /// Axial rigidity EA of the colon's tension elements [N], instead of the parameter file's
+  /// tension_stiffness_density x tension_reference_length^2 (the paper's reading, 28.9 N;
+  /// a whole-tube value is 460-880 N: docs/parameters.md).
+  std::optional<double> colon_axial_rigidity_N;
 };
 
 /// Abdominal pressure (core/abdominal_pressure.h): an assistant's hand pressing on the
@@ -101,12 +106,18 @@ Scenario findScenario(const std::string& name_or_path);
 /// Names of the shipped scenarios, sorted.
 std::vector<std::string> shippedScenarioNames();
 
+/// An error found in a scenario after it was read ("FILE: key.path: what"), with the line
+/// of its key in the scenario file added when the file still has it.
+InputError scenarioError(const std::string& file, const std::string& message);
+
 /// The parameters a scenario runs with: its parameter file with its overrides applied
-/// (patient position, wall friction).
+/// (patient position, wall friction, colon axial rigidity). InputError naming the
+/// scenario's line when it overrides the EA of a parameter file that carries a tension law.
 Parameters scenarioParameters(const Scenario& scenario);
 /// Runs the scenario with another parameter file (`colosim run SCENARIO --params FILE`, e.g.
-/// one written by `colosim identify --law-out`): the file states the wall friction to use, so
-/// the scenario's wall_friction override is dropped; its value is returned (empty: none).
+/// one written by `colosim identify --law-out`): the file states the wall friction and the
+/// colon's axial rigidity to use, so the scenario's wall_friction and colon_axial_rigidity_N
+/// overrides are dropped; the wall friction's value is returned (empty: none).
 std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path);
 
 /// The scripted handle input at time t_s: linear between keyframes, the first keyframe

@@ -54,13 +54,6 @@ std::pair<int, int> regionSegments(const ColonModel& colon, const std::string& r
   return {first, last};
 }
 
-// An error found when the simulation is built, with the line of its key in the scenario file.
-InputError scenarioError(const std::string& file, const std::string& message) {
-  std::ifstream in(file);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return InputError(addLineToMessage(message, file, text));
-}
-
 // The start state's colon shape (ScenarioStart::shape_region): the region's control points
 // placed along the uniform Catmull-Rom curve through `waypoints` (ends extrapolated),
 // at their rest arclength spacing scaled to the curve's length; velocities zero.

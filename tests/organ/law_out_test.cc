@@ -11,6 +11,7 @@
 #include "core/input_error.h"
 #include "fixture.h"
 #include "organ/identify_insertion.h"
+#include "trainer/session_fixture.h"
 #include "trainer/replay.h"
 #include "trainer/world_simulation.h"
 
@@ -135,6 +136,31 @@ TEST(OrganLawOut, AFitWithoutTensionEffectsRemovesTheBaseFilesLaw) {
   const Parameters p = loadParameters(second);
   EXPECT_FALSE(p.tension_law.has_value());
   EXPECT_EQ(p.contact.friction_coefficient, 0.3);
+}
+
+// A scenario that overrides the colon's EA (as free_insertion does) of a parameter file
+// carrying a tension law would contradict the law's EA: refused, naming the scenario's line.
+TEST(OrganLawOut, AnEAOverrideOfAFileWithATensionLawIsAnError) {
+  test::TempDir dir;
+  const std::string base = coarseDefaults(dir);
+  OrganFit fit;
+  fit.params.set_ratio = 0.2;
+  const std::string with_law = dir.file("with_law.json");
+  writeOrganParameters(with_law, base, fit, "test");
+  const std::string text = R"({
+    "format": "colosim-scenario", "version": 1, "name": "ea_override",
+    "description": "test", "anatomy": "anatomy/adult.json", "params": ")" + with_law + R"(",
+    "dt_s": 0.001, "duration_s": 1.0, "seed": 1, "start": {"kind": "rest"},
+    "overrides": {"colon_axial_rigidity_N": 500},
+    "script": [{"t_s": 0.0, "insertion_m": 0.0, "rotation_rad": 0.0, "knob_updown_rad": 0.0, "knob_leftright_rad": 0.0}]})";
+  const std::string path = dir.write("ea.json", text);
+  const Scenario sc = loadScenario(path);
+  test::expectInputError([&] { scenarioParameters(sc); },
+                         {path + ":5: overrides.colon_axial_rigidity_N", "tension law"});
+  // Without the law the override applies.
+  Scenario plain = sc;
+  plain.params_path = base;
+  EXPECT_EQ(scenarioParameters(plain).colon.tension_EA_N, 500.0);
 }
 
 TEST(OrganLawOut, ALawWhoseStiffnessDisagreesWithTheParametersIsAnError) {

@@ -112,6 +112,10 @@ TEST(Scenario, BadFilesNameFileKeyAndLine) {
       {"\"seed\": 7", "\"seed\": NaN", "line 5"},
       {"\"anatomy\": \"anatomy/adult.json\"", "\"anatomy\": \"anatomy/none.json\"", ":4: anatomy: no such file"},
       {"\"script\": [", "\"overrides\": {\"wall_friction\": 5},\n  \"script\": [", ":7: overrides.wall_friction"},
+      {"\"script\": [", "\"overrides\": {\"colon_axial_rigidity_N\": 0},\n  \"script\": [",
+       ":7: overrides.colon_axial_rigidity_N"},
+      {"\"script\": [", "\"overrides\": {\"colon_axial_rigidity_N\": \"500\"},\n  \"script\": [",
+       ":7: overrides.colon_axial_rigidity_N"},
       // The start state's colon shape (start.colon_shape): the list, each point, unknown keys.
       {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,0,0.3]]"), ":6: start.colon_shape.points_m: expected a list of 4 to 1000"},
       {kRest, shape("[[0,0,0.1],[0,0,0.2],[0,\"x\",0.3],[0,0,0.4]]"),
@@ -136,6 +140,25 @@ TEST(Scenario, BadFilesNameFileKeyAndLine) {
 // A colon shape that reads but does not fit the anatomy is refused when the simulation is
 // built, naming the file and the key: a region the anatomy does not have, and points that
 // do not start and end at the region's ends.
+// The colon's axial rigidity override replaces the parameter file's EA (and nothing else);
+// a run with another parameter file (--params) drops it, as it drops the wall friction.
+TEST(Scenario, ColonAxialRigidityOverrideSetsTheEA) {
+  test::TempDir dir;
+  const std::string text = replaced(test::smallScenarioText(), "\"script\": [",
+                                    "\"overrides\": {\"colon_axial_rigidity_N\": 500},\n  \"script\": [");
+  Scenario s = loadScenario(dir.write("ea.json", text));
+  ASSERT_TRUE(s.overrides.colon_axial_rigidity_N.has_value());
+  const Parameters file = loadParameters(s.params_path);
+  const Parameters run = scenarioParameters(s);
+  EXPECT_EQ(run.colon.tension_EA_N, 500.0);
+  EXPECT_NEAR(file.colon.tension_EA_N, 28.9, 0.01);  // the paper's reading, left in the file
+  EXPECT_EQ(run.colon.tension_EC_Ns, file.colon.tension_EC_Ns);
+  EXPECT_EQ(run.contact.friction_coefficient, file.contact.friction_coefficient);
+  useParameterFile(s, s.params_path);
+  EXPECT_FALSE(s.overrides.colon_axial_rigidity_N.has_value());
+  EXPECT_EQ(scenarioParameters(s).colon.tension_EA_N, file.colon.tension_EA_N);
+}
+
 TEST(Scenario, ColonShapeMustFitTheAnatomy) {
   test::TempDir dir;
   const std::string good = test::smallScenarioText();
