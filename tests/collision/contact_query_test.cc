@@ -125,23 +125,38 @@ Points hairpin(double r) {
   return q;
 }
 
+// The scope threaded 12 cm into part A of the hairpin, its tip segment (0) at x = 0.1 m
+// pressed towards part B: its top interaction point is 2 mm beyond A's wall, hence 2 mm
+// inside B's lumen.
+void pressTipTowardsPartB(const WorldModel& m, WorldState& s, double r) {
+  threadScopeAlongColon(m, s, 0.12);
+  s.scope.R_WS[0].col(0) = Vec3(0, 1, 0);
+  s.scope.R_WS[0].col(1) = Vec3(0, 0, 1);
+  s.scope.R_WS[0].col(2) = Vec3(1, 0, 0);
+  const Vec3 top_S = m.scope.interaction_points_S[0];  // (r_scope, 0, h/2): along d1 = +y
+  s.scope.p_W[0] = Vec3(0.1, r + 0.002 - top_S.x(), 0) - s.scope.R_WS[0] * Vec3(0, 0, top_S.z());
+  ASSERT_NEAR(interactionPoint(m.scope, s.scope, 0, 0).y(), r + 0.002, 1e-12);
+}
+
+// That top point touches part A's wall, 2 mm deep, pushed back towards A's axis.
+void expectTopPointOnPartAsWall(const WorldModel& m, const WorldState& s) {
+  bool found = false;
+  for (const WallContact& c : s.wall) {
+    if (c.scope_segment != 0 || c.point != 0) continue;
+    found = true;
+    EXPECT_LT(m.colon.arclengthAt(c.colon_segment, c.p), 0.2);  // part A
+    EXPECT_NEAR(c.depth_m, 0.002, 1e-6);
+    EXPECT_GT(c.normal_W.y(), 0.99);
+  }
+  EXPECT_TRUE(found);
+}
+
 TEST(ContactQuery, RobustQueryStaysOnTheTrackedPartOfALoop) {
   const double r = 0.017;
   const WorldModel m = worldFromPoints(hairpin(r), r, 1000, 20, Vec3::Zero());
   WorldState s = makeWorldState(m);
-  // One segment inside part A at x = 0.1 m, pressed towards part B: its top interaction
-  // point is 2 mm beyond A's wall, hence 2 mm inside B's lumen.
-  threadScopeAlongColon(m, s, 0.12);
   const int k = 0;
-  const double h = m.scope.h_m;
-  s.scope.R_WS[k].col(0) = Vec3(0, 1, 0);
-  s.scope.R_WS[k].col(1) = Vec3(0, 0, 1);
-  s.scope.R_WS[k].col(2) = Vec3(1, 0, 0);
-  const Vec3 top_S = m.scope.interaction_points_S[0];  // (r_scope, 0, h/2): along d1 = +y
-  s.scope.p_W[k] = Vec3(0.1, r + 0.002 - top_S.x(), 0) - s.scope.R_WS[k] * Vec3(0, 0, top_S.z());
-  (void)h;
-  const Vec3 x = interactionPoint(m.scope, s.scope, k, 0);
-  ASSERT_NEAR(x.y(), r + 0.002, 1e-12);
+  pressTipTowardsPartB(m, s, r);
 
   // The paper's scan snaps to part B (the nearer centreline) and sees no contact.
   WorldState scan_state = s;
@@ -156,15 +171,7 @@ TEST(ContactQuery, RobustQueryStaysOnTheTrackedPartOfALoop) {
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
   for (int i = 0; i < P; ++i) s.track[k * P + i] = {6, 0.5};  // part A, near x = 0.1 m
   fcl.findWallContacts(m, s);
-  bool found = false;
-  for (const WallContact& c : s.wall) {
-    if (c.scope_segment != k || c.point != 0) continue;
-    found = true;
-    EXPECT_LT(m.colon.arclengthAt(c.colon_segment, c.p), 0.2);  // part A
-    EXPECT_NEAR(c.depth_m, 0.002, 1e-6);
-    EXPECT_GT(c.normal_W.y(), 0.99);
-  }
-  EXPECT_TRUE(found);
+  expectTopPointOnPartAsWall(m, s);
 }
 
 // The other way round: a segment whose tracks were carried to part B of the hairpin while
@@ -176,13 +183,8 @@ TEST(ContactQuery, TracksCarriedToAnotherPartComeBackToTheScopesPath) {
   const double r = 0.017;
   const WorldModel m = worldFromPoints(hairpin(r), r, 1000, 20, Vec3::Zero());
   WorldState s = makeWorldState(m);
-  threadScopeAlongColon(m, s, 0.12);
   const int k = 0;
-  s.scope.R_WS[k].col(0) = Vec3(0, 1, 0);
-  s.scope.R_WS[k].col(1) = Vec3(0, 0, 1);
-  s.scope.R_WS[k].col(2) = Vec3(1, 0, 0);
-  const Vec3 top_S = m.scope.interaction_points_S[0];
-  s.scope.p_W[k] = Vec3(0.1, r + 0.002 - top_S.x(), 0) - s.scope.R_WS[k] * Vec3(0, 0, top_S.z());
+  pressTipTowardsPartB(m, s, r);
   FclContactQuery fcl(m);
   fcl.findWallContacts(m, s);  // every segment tracked where it lies, in part A
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
@@ -196,15 +198,7 @@ TEST(ContactQuery, TracksCarriedToAnotherPartComeBackToTheScopesPath) {
   ASSERT_GE(b_segment, 0);
   for (int i = 0; i < P; ++i) s.track[k * P + i] = {b_segment, 0.5};
   fcl.findWallContacts(m, s);
-  bool found = false;
-  for (const WallContact& c : s.wall) {
-    if (c.scope_segment != k || c.point != 0) continue;
-    found = true;
-    EXPECT_LT(m.colon.arclengthAt(c.colon_segment, c.p), 0.2);  // part A
-    EXPECT_NEAR(c.depth_m, 0.002, 1e-6);
-    EXPECT_GT(c.normal_W.y(), 0.99);
-  }
-  EXPECT_TRUE(found);
+  expectTopPointOnPartAsWall(m, s);
   for (int i = 0; i < P; ++i) EXPECT_LT(m.colon.arclengthAt(s.track[k * P + i].colon_segment, s.track[k * P + i].p), 0.2);
 }
 

@@ -29,14 +29,16 @@ std::string coarseDefaults(const test::TempDir& dir) {
 
 // A 1.5 s scenario on those parameters: the colon settles for 0.3 s, the scope starts
 // threaded to 15 cm, is pushed to 27 cm turning and steering, held, pulled back 5 cm. It
-// carries a wall_friction override, as free_insertion does, which --params must not apply.
-Scenario shortScenario(const test::TempDir& dir, const std::string& params) {
+// carries a wall_friction override, as free_insertion does, which --params must not apply
+// (or the overrides given, on line 6 of the file).
+Scenario shortScenario(const test::TempDir& dir, const std::string& params,
+                       const std::string& overrides = R"({"wall_friction": 0.1})") {
   const std::string text = R"({
     "format": "colosim-scenario", "version": 1, "name": "law_out_round_trip",
     "description": "test", "anatomy": "anatomy/adult.json", "params": ")" + params + R"(",
     "dt_s": 0.001, "duration_s": 1.5, "seed": 1,
     "start": {"kind": "settled", "settle_s": 0.3},
-    "overrides": {"wall_friction": 0.1},
+    "overrides": )" + overrides + R"(,
     "script": [
       {"t_s": 0.0, "insertion_m": 0.15, "rotation_rad": 0.0, "knob_updown_rad": 0.0, "knob_leftright_rad": 0.0},
       {"t_s": 0.8, "insertion_m": 0.27, "rotation_rad": 0.3, "knob_updown_rad": 0.3, "knob_leftright_rad": 0.0},
@@ -147,16 +149,9 @@ TEST(OrganLawOut, AnEAOverrideOfAFileWithATensionLawIsAnError) {
   fit.params.set_ratio = 0.2;
   const std::string with_law = dir.file("with_law.json");
   writeOrganParameters(with_law, base, fit, "test");
-  const std::string text = R"({
-    "format": "colosim-scenario", "version": 1, "name": "ea_override",
-    "description": "test", "anatomy": "anatomy/adult.json", "params": ")" + with_law + R"(",
-    "dt_s": 0.001, "duration_s": 1.0, "seed": 1, "start": {"kind": "rest"},
-    "overrides": {"colon_axial_rigidity_N": 500},
-    "script": [{"t_s": 0.0, "insertion_m": 0.0, "rotation_rad": 0.0, "knob_updown_rad": 0.0, "knob_leftright_rad": 0.0}]})";
-  const std::string path = dir.write("ea.json", text);
-  const Scenario sc = loadScenario(path);
+  const Scenario sc = shortScenario(dir, with_law, R"({"colon_axial_rigidity_N": 500})");
   test::expectInputError([&] { scenarioParameters(sc); },
-                         {path + ":5: overrides.colon_axial_rigidity_N", "tension law"});
+                         {sc.file + ":6: overrides.colon_axial_rigidity_N", "tension law"});
   // Without the law the override applies.
   Scenario plain = sc;
   plain.params_path = base;
