@@ -188,8 +188,9 @@ TEST(ContactQuery, TracksCarriedToAnotherPartComeBackToTheScopesPath) {
   FclContactQuery fcl(m);
   fcl.findWallContacts(m, s);  // every segment tracked where it lies, in part A
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
-  for (int i = 0; i < P; ++i) ASSERT_LT(m.colon.arclengthAt(s.track[k * P + i].colon_segment, s.track[k * P + i].p), 0.2);
-  ASSERT_LT(m.colon.arclengthAt(s.track[(k + 1) * P].colon_segment, s.track[(k + 1) * P].p), 0.2);
+  auto tracked_at_m = [&](int t) { return m.colon.arclengthAt(s.track[t].colon_segment, s.track[t].p); };
+  for (int i = 0; i < P; ++i) ASSERT_LT(tracked_at_m(k * P + i), 0.2);
+  ASSERT_LT(tracked_at_m((k + 1) * P), 0.2);
 
   // Segment k's tracks carried to part B, opposite x = 0.1 m.
   int b_segment = -1;
@@ -199,7 +200,7 @@ TEST(ContactQuery, TracksCarriedToAnotherPartComeBackToTheScopesPath) {
   for (int i = 0; i < P; ++i) s.track[k * P + i] = {b_segment, 0.5};
   fcl.findWallContacts(m, s);
   expectTopPointOnPartAsWall(m, s);
-  for (int i = 0; i < P; ++i) EXPECT_LT(m.colon.arclengthAt(s.track[k * P + i].colon_segment, s.track[k * P + i].p), 0.2);
+  for (int i = 0; i < P; ++i) EXPECT_LT(tracked_at_m(k * P + i), 0.2);
 }
 
 TEST(ContactForces, ActionEqualsReaction) {

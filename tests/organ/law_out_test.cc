@@ -47,6 +47,15 @@ Scenario shortScenario(const test::TempDir& dir, const std::string& params,
   return loadScenario(dir.write("scenario.json", text));
 }
 
+// The base parameters with a fitted tension law (a set ratio of 0.2), written to NAME.
+std::string writeWithTensionLaw(const test::TempDir& dir, const std::string& base, const std::string& name) {
+  OrganFit fit;
+  fit.params.set_ratio = 0.2;
+  const std::string path = dir.file(name);
+  writeOrganParameters(path, base, fit, "test");
+  return path;
+}
+
 // The handle force of every step of the scenario's scripted run [N].
 std::vector<double> handleForces(const Scenario& sc, WorldSimulation& sim) {
   std::vector<double> f;
@@ -126,10 +135,7 @@ TEST(OrganLawOut, RunWithTheWrittenParametersSimulatesTheFittedModel) {
 TEST(OrganLawOut, AFitWithoutTensionEffectsRemovesTheBaseFilesLaw) {
   test::TempDir dir;
   const std::string base = coarseDefaults(dir);
-  OrganFit with_law;
-  with_law.params.set_ratio = 0.2;
-  const std::string first = dir.file("first.json");
-  writeOrganParameters(first, base, with_law, "test");
+  const std::string first = writeWithTensionLaw(dir, base, "first.json");
   ASSERT_TRUE(loadParameters(first).tension_law.has_value());
   OrganFit friction_only;
   friction_only.params.friction = 0.3;
@@ -145,10 +151,7 @@ TEST(OrganLawOut, AFitWithoutTensionEffectsRemovesTheBaseFilesLaw) {
 TEST(OrganLawOut, AnEAOverrideOfAFileWithATensionLawIsAnError) {
   test::TempDir dir;
   const std::string base = coarseDefaults(dir);
-  OrganFit fit;
-  fit.params.set_ratio = 0.2;
-  const std::string with_law = dir.file("with_law.json");
-  writeOrganParameters(with_law, base, fit, "test");
+  const std::string with_law = writeWithTensionLaw(dir, base, "with_law.json");
   const Scenario sc = shortScenario(dir, with_law, R"({"colon_axial_rigidity_N": 500})");
   test::expectInputError([&] { scenarioParameters(sc); },
                          {sc.file + ":6: overrides.colon_axial_rigidity_N", "tension law"});

@@ -137,9 +137,6 @@ TEST(Scenario, BadFilesNameFileKeyAndLine) {
   test::expectInputError([&] { loadScenario(cut); }, {cut, "invalid JSON", "line"});
 }
 
-// A colon shape that reads but does not fit the anatomy is refused when the simulation is
-// built, naming the file and the key: a region the anatomy does not have, and points that
-// do not start and end at the region's ends.
 // The colon's axial rigidity override replaces the parameter file's EA (and nothing else);
 // a run with another parameter file (--params) drops it, as it drops the wall friction.
 TEST(Scenario, ColonAxialRigidityOverrideSetsTheEA) {
@@ -159,6 +156,9 @@ TEST(Scenario, ColonAxialRigidityOverrideSetsTheEA) {
   EXPECT_EQ(scenarioParameters(s).colon.tension_EA_N, file.colon.tension_EA_N);
 }
 
+// A colon shape that reads but does not fit the anatomy is refused when the simulation is
+// built, naming the file and the key: a region the anatomy does not have, and points that
+// do not start and end at the region's ends.
 TEST(Scenario, ColonShapeMustFitTheAnatomy) {
   test::TempDir dir;
   const std::string good = test::smallScenarioText();

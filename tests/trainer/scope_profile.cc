@@ -82,13 +82,12 @@ int main(int argc, char** argv) {
                                      : 0.0,
                     s.p_W[j].x(), s.p_W[j].y(), s.p_W[j].z(), s.R_WS[j].col(2).x(), s.R_WS[j].col(2).y(),
                     s.R_WS[j].col(2).z());
-    if (std::getenv("CONTACTS"))
+    if (std::getenv("CONTACTS")) {
       for (const WallContact& c : st.wall)
         if (c.scope_segment >= s.inside - 6)
           std::printf("    contact seg %d pt %d colon seg %d p %.3f depth %.4f N %.2f n %.2f %.2f %.2f axis.n %.2f\n",
                       c.scope_segment, c.point, c.colon_segment, c.p, c.depth_m, c.force_N, c.normal_W.x(),
                       c.normal_W.y(), c.normal_W.z(), c.normal_W.dot(s.R_WS[c.scope_segment].col(2)));
-    if (std::getenv("CONTACTS")) {
       const int P = static_cast<int>(sm.interaction_points_S.size());
       for (int j = std::max(0, s.inside - 10); j < s.inside; ++j) {
         std::printf("    tracks seg %d:", j);
