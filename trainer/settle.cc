@@ -50,6 +50,7 @@ SettleSummary settleColon(const ColonModel& model, double duration_s, double dt_
     out.max_speed_end_m_per_s = std::max(out.max_speed_end_m_per_s, state.v.col(i).norm());
   }
   out.finite = out.finite && std::isfinite(out.energy_end_J);
+  out.state_hash = hashColonState(state);
   return out;
 }
 

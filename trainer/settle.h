@@ -1,6 +1,7 @@
 // The foundation's main job: the colon settling under gravity and its mesentery.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 #include "core/colon_model.h"
@@ -21,6 +22,7 @@ struct SettleSummary {
   double max_speed_end_m_per_s = 0;
   double us_per_step_median = 0;   ///< median over blocks of 100 steps [us]
   bool finite = true;              ///< no NaN or infinity anywhere
+  uint64_t state_hash = 0;         ///< hashColonState at the end: equal hashes mean bit-identical runs
 };
 
 /// Simulates the colon from rest for duration_s at dt_s and summarises.

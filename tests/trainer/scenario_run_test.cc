@@ -23,6 +23,7 @@ struct ScenarioRun {
   std::vector<double> time_s, loop_turns;  // every step
   double peak_push_N = 0, peak_pull_N = 0, peak_torque_Nm = 0, min_tip_to_caecum_m = 1e9;
   double max_tip_arclength_m = 0;  // furthest the tip got along the colon (rest arclength)
+  uint64_t final_state_hash = 0;
 };
 
 // Runs a shipped scenario once per process and keeps what the tests look at.
@@ -44,6 +45,7 @@ const ScenarioRun& runOnce(const std::string& name) {
     r.max_tip_arclength_m = std::max(r.max_tip_arclength_m, t.tip_arclength_m);
   };
   r.scores = runScenario(sc, sim, nullptr, hooks).scores;
+  r.final_state_hash = sim.stateHash();
   return runs.emplace(name, std::move(r)).first->second;
 }
 
@@ -108,6 +110,18 @@ TEST(ScenarioRuns, FreeInsertionHandleForcesOfTheClinicalOrder) {
   EXPECT_GT(r.scores.at("time_to_caecum_s").get<double>(), 0.0);
   EXPECT_LE(r.scores.at("time_to_caecum_s").get<double>(), 240.0);
   EXPECT_GE(r.max_tip_arclength_m, 1.59);
+}
+
+// The behaviour pinned for redesigns (tests/golden/behaviour.json, as golden_tests does for
+// the other scenarios): the final state of each run here is bit-identical to the pinned one.
+TEST(ScenarioRuns, FinalStatesAreThePinnedOnes) {
+  const nlohmann::json golden = nlohmann::json::parse(
+      test::readFile(std::string(COLOSIM_GOLDEN_DIR) + "/behaviour.json"))["scenario_final_state_hash"];
+  for (const char* name : {"sigmoid_untwist", "sigmoid_push", "free_insertion"}) {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(runOnce(name).final_state_hash));
+    EXPECT_EQ(std::string(hex), golden.at(name).get<std::string>()) << name;
+  }
 }
 
 }  // namespace

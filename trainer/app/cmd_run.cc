@@ -66,6 +66,7 @@ int runSettle(const RunOptions& o) {
   std::printf("  max speed at end     %10.3e m/s\n", s.max_speed_end_m_per_s);
   std::printf("  time per step        %10.2f us (median of blocks of 100 steps)\n", s.us_per_step_median);
   std::printf("  state finite         %10s\n", s.finite ? "yes" : "NO");
+  std::printf("  state hash     %016llx\n", static_cast<unsigned long long>(s.state_hash));
   return s.finite ? 0 : 1;
 }
 

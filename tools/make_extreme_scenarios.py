@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-# Writes the extreme-input scenarios of this folder (issue 8, docs/hardening.md):
-#   python3 assets/scenarios/extreme/make_extreme.py   (from the repository root)
+# Writes the extreme-input scenarios of assets/scenarios/extreme/ (issue 8, docs/hardening.md):
+#   python3 tools/make_extreme_scenarios.py   (from the repository root)
 import json, math
 PI = math.pi
 LR = 160 * PI / 180

@@ -1,0 +1,111 @@
+// Behaviour pinned through the `colosim` command, so that a change of structure (a
+// redesign, a move of code between libraries) can be shown to change nothing: the final
+// state hash of every shipped scenario and of the settling colon, and the whole
+// identification answer on the shipped measurements. The expected values live in
+// tests/golden/behaviour.json; a change of behaviour that is meant updates that file in
+// the same commit and says why.
+//
+// sigmoid_untwist, sigmoid_push and free_insertion are checked by scenario_run_tests,
+// which runs them whole anyway (tests/trainer/scenario_run_test.cc).
+#include <array>
+#include <cstdio>
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "fixture.h"
+
+namespace colosim {
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out;  // stdout only
+};
+
+Result run(const std::string& args) {
+  Result r;
+  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + " 2>/dev/null";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::array<char, 4096> buf;
+  size_t got;
+  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+const nlohmann::json& golden() {
+  static const nlohmann::json g =
+      nlohmann::json::parse(test::readFile(std::string(COLOSIM_GOLDEN_DIR) + "/behaviour.json"));
+  return g;
+}
+
+// The state hash in the end line of a session file (docs/file-formats.md).
+std::string finalHash(const std::string& session) {
+  const std::string text = test::readFile(session);
+  const size_t last = text.find_last_of('\n', text.size() - 2);
+  const nlohmann::json end = nlohmann::json::parse(text.substr(last == std::string::npos ? 0 : last + 1));
+  return end.at("state_hash").get<std::string>();
+}
+
+class ScenarioHash : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ScenarioHash, FinalStateIsUnchanged) {
+  const std::string name = GetParam();
+  test::TempDir dir;
+  const std::string session = dir.file("run.jsonl");
+  const std::string file = name.rfind("extreme/", 0) == 0 ? test::asset("scenarios/" + name + ".json") : name;
+  const Result r = run("run " + file + " --record " + session);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(finalHash(session), golden().at("scenario_final_state_hash").at(name).get<std::string>()) << name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, ScenarioHash,
+                         ::testing::Values("free_insertion_attached_rectum", "extreme/extreme_all", "extreme/extreme_jam",
+                                           "extreme/extreme_knobs", "extreme/extreme_push", "extreme/extreme_spin"),
+                         [](const ::testing::TestParamInfo<std::string>& i) {
+                           std::string n = i.param;
+                           for (char& c : n)
+                             if (c == '/') c = '_';
+                           return n;
+                         });
+
+TEST(Behaviour, SettleEndsInTheSameState) {
+  const Result r = run("run settle");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("state hash +([0-9a-f]{16})"))) << r.out;
+  EXPECT_EQ(m[1].str(), golden().at("scenario_final_state_hash").at("settle").get<std::string>());
+}
+
+// What differs between runs of the same identification: the time it took.
+void dropTiming(nlohmann::json& j) {
+  if (j.contains("timing")) j["timing"].erase("seconds");
+  if (j.contains("diagnosis"))
+    j["diagnosis"] = std::regex_replace(j["diagnosis"].get<std::string>(), std::regex("resolution, [0-9.]+ s\\."),
+                                        "resolution, T s.");
+  j.erase("file");
+}
+
+class IdentifyAnswer : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(IdentifyAnswer, IsUnchanged) {
+  const std::string name = GetParam();
+  const Result r = run("identify " + test::asset("measurements/" + name + ".csv") + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  nlohmann::json got = nlohmann::json::parse(r.out);
+  nlohmann::json want =
+      nlohmann::json::parse(test::readFile(std::string(COLOSIM_GOLDEN_DIR) + "/identify_" + name + ".json"));
+  dropTiming(got);
+  dropTiming(want);
+  EXPECT_EQ(got, want) << nlohmann::json::diff(want, got).dump(1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, IdentifyAnswer,
+                         ::testing::Values("tension_fig8_sample1", "tension_fig8_sample2", "insertion_synthetic"));
+
+}  // namespace
+}  // namespace colosim
