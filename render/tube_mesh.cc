@@ -190,6 +190,10 @@ void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions&
 }
 
 bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m) {
+  return probeLumen(mesh, rings, x_m, reach_m).inside;
+}
+
+LumenProbe probeLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m) {
   const int count = std::min(mesh.rings, static_cast<int>(rings.centre_m.size()));
   const int rv = mesh.ring_vertices;
   const double reach2 = reach_m * reach_m;
@@ -225,11 +229,15 @@ bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m,
     }
   }
   int inside = 0, outside = 0;
+  LumenProbe probe;
+  probe.nearest_hit_m = std::numeric_limits<double>::infinity();
   for (int r = 0; r < 6; ++r) {
     if (!std::isfinite(hit_t[r])) continue;
     (hit_front[r] ? inside : outside) += 1;
+    probe.nearest_hit_m = std::min(probe.nearest_hit_m, hit_t[r]);
   }
-  return inside > outside;
+  probe.inside = inside > outside;
+  return probe;
 }
 
 void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,

@@ -80,6 +80,14 @@ double haustralRadius(double radius_m, double s_rest_m, double theta_rad, double
 /// no vote at all is outside.
 bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m = 0.06);
 
+/// insideLumen's answer, and the nearest of its six rays' first hits [m] (infinity when no
+/// ray meets the wall within reach): at most sqrt(3) times the distance to the wall.
+struct LumenProbe {
+  bool inside = false;
+  double nearest_hit_m = 0;
+};
+LumenProbe probeLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m = 0.06);
+
 /// Builds the colon wall from sampled rings. Triangles are wound counter-clockwise seen
 /// from the lumen (the front faces look inwards). Each vertex reaches at most 0.95 of the
 /// way to the neighbouring rings' planes, so where the centreline bends tighter than the

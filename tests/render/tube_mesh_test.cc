@@ -183,6 +183,15 @@ TEST(TubeMesh, InsideLumenFollowsTheDrawnWall) {
   EXPECT_FALSE(insideLumen(mesh, rings, at(fold, r_fold + 0.0015)));  // in the fold's tissue
   EXPECT_LT(r_fold + 0.0015, 0.02);  // ... though within the unfolded radius
   EXPECT_FALSE(insideLumen(mesh, rings, Vec3(0.2, 0, 0.13)));  // far outside: no wall in reach
+  // The nearest ray hit: about the radius on the axis, and 1.5 mm to sqrt(3) x 1.5 mm
+  // (the rays are axis-aligned, the wall is not) beside the wall between folds.
+  const LumenProbe axis = probeLumen(mesh, rings, rings.centre_m[gap]);
+  EXPECT_TRUE(axis.inside);
+  EXPECT_GT(axis.nearest_hit_m, r_fold - 0.001);
+  EXPECT_LT(axis.nearest_hit_m, 0.02 + 1e-4);
+  const double beside = probeLumen(mesh, rings, at(gap, r_gap - 0.0015)).nearest_hit_m;
+  EXPECT_GT(beside, 0.0015 - 2e-4);
+  EXPECT_LT(beside, std::sqrt(3.0) * 0.0015 + 2e-4);
 }
 
 // A colon that turns 180 degrees around a bend of centreline radius bend_m [m] in the
