@@ -30,7 +30,7 @@ CameraPose lookAlong(const Vec3& position_m, const Vec3& forward, const Vec3& up
 /// Onboard optics: a wide-angle colonoscope lens lit by a light at the tip.
 struct OnboardOptics {
   double fov_diagonal_deg = 140;  ///< field of view across the image diagonal [deg]
-  double near_m = 0.001;          ///< near clip plane [m]
+  double near_m = 0.0001;         ///< near clip plane [m]: the lens may come this close to the wall (see docs)
   double far_m = 0.3;             ///< far clip plane [m]; the tip light fades out before it
   double light_ref_m = 0.02;      ///< distance at which the tip light gives unit irradiance [m]
   double exposure = 2.5;          ///< scales the irradiance before tone mapping [-]

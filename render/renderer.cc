@@ -15,6 +15,12 @@ constexpr double kPi = 3.14159265358979323846;
 // Display colour of red-out where the lens in the tissue sees no wall surface (the
 // shader's kRedoutAlbedo at a few mm, tone mapped).
 constexpr float kRedoutClear[3] = {0.62f, 0.13f, 0.09f};
+// The onboard view switches from per-vertex to per-pixel (exact) barrel distortion when
+// one of probeLumen's rays meets the wall this close to the lens [m] (the wall is then
+// within 4-7 mm; per-vertex distortion smears from ~3 mm and leaves holes beside long
+// facets); and draws the rectilinear image at this multiple of the viewport's size.
+constexpr double kExactDistortionReach_m = 0.007;
+constexpr double kExactOversample = 1.5;
 
 // Wall and scope. MODE (a #define, one program per mode: a uniform branch costs llvmpipe
 // both sides per pixel): 0 onboard wall (texture, tip light), 1 onboard solid (scope),
@@ -133,6 +139,36 @@ void main() {
     vec3 col = distance(v_pos, u_tip_pos) < u_tip_len ? u_tip_color : u_color;
     o_color = vec4(col * (0.35 + 0.65 * ndv) + vec3(0.3 * pow(ndv, 40.0)), 1.0);
 #endif
+}
+)";
+
+// Exact barrel distortion for a lens next to the wall: the view drawn rectilinear (same
+// diagonal field of view) into a texture, resampled per pixel. A direction at angle
+// theta from the axis lies at radius theta / half_angle on the equidistant image and
+// tan(theta) / tan(half_angle) on the rectilinear one (both in half diagonals).
+const char* kWarpVs = R"(#version 330 core
+out vec2 v_ndc;
+void main() {  // one triangle covering the viewport
+  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+  v_ndc = p;
+  gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+
+const char* kWarpFs = R"(#version 330 core
+in vec2 v_ndc;
+uniform sampler2D u_image;   // the rectilinear view
+uniform float u_aspect;      // width / height
+uniform float u_half_angle;  // half the diagonal field of view [rad]
+out vec4 o_color;
+void main() {
+  float diag = sqrt(1.0 + u_aspect * u_aspect);
+  vec2 q = v_ndc * vec2(u_aspect, 1.0) / diag;  // half diagonals: 1 at the corners
+  float rho = length(q);
+  float theta = rho * u_half_angle;
+  float k = rho > 1e-6 ? tan(theta) / (rho * tan(u_half_angle)) : u_half_angle / tan(u_half_angle);
+  vec2 ndc = q * k * diag / vec2(u_aspect, 1.0);
+  o_color = texture(u_image, ndc * 0.5 + 0.5);
 }
 )";
 
@@ -263,7 +299,11 @@ void useViewport(const Viewport& vp) {
 struct Renderer::Gl {
   std::array<GLuint, 4> scene{};  // by MODE of kSceneFs
   GLuint text = 0;
+  GLuint warp = 0, warp_vao = 0;
   GLuint texture = 0;
+  // The rectilinear target of the exact distortion (created on first use, resized as needed).
+  GLuint exact_fbo = 0, exact_colour = 0, exact_depth = 0;
+  int exact_w = 0, exact_h = 0;
   MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
   GLuint text_vao = 0, text_vbo = 0;
   // The reduced-size target of the render scale (created on first use, resized as needed),
@@ -283,6 +323,8 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
     gl_->scene[mode] = link(kSceneVs, fs.c_str());
   }
   gl_->text = link(kTextVs, kTextFs);
+  gl_->warp = link(kWarpVs, kWarpFs);
+  glGenVertexArrays(1, &gl_->warp_vao);
   gl_->colon.create();
   gl_->colon_global.create();
   gl_->scope.create();
@@ -310,6 +352,13 @@ Renderer::~Renderer() {
   if (!glDeleteProgram) return;
   for (GLuint p : gl_->scene) glDeleteProgram(p);
   glDeleteProgram(gl_->text);
+  glDeleteProgram(gl_->warp);
+  glDeleteVertexArrays(1, &gl_->warp_vao);
+  if (gl_->exact_fbo) {
+    glDeleteFramebuffers(1, &gl_->exact_fbo);
+    glDeleteTextures(1, &gl_->exact_colour);
+    glDeleteRenderbuffers(1, &gl_->exact_depth);
+  }
   gl_->colon.destroy();
   gl_->colon_global.destroy();
   gl_->scope.destroy();
@@ -392,10 +441,22 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   checkCameraPose(camera);
   uploadMeshes(model, q, scope, tube_, /*global=*/false);
   const Viewport target = beginScaled(vp, optics.render_scale);
-  useViewport(target);
+  const LumenProbe probe = probeLumen(colon_mesh_, rings_, camera.p_WC_m);
+  // Per-vertex distortion draws a facet as the straight-edged triangle between its
+  // projected vertices; next to the lens a facet spans a wide angle and that triangle
+  // misses much of it, leaving holes. There draw rectilinear (exact for flat facets)
+  // and resample per pixel.
+  const bool exact = optics.barrel_distortion && probe.nearest_hit_m < kExactDistortionReach_m;
+  GLint outer_fbo = 0;
+  Viewport drawn = target;
+  if (exact) {
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &outer_fbo);
+    drawn = beginExact(target);
+  }
+  useViewport(drawn);
   // Beyond the far plane the lumen is dark; a lens in the tissue (pressed into the soft
   // wall) sees red wherever no wall surface lies in its view.
-  if (insideLumen(colon_mesh_, rings_, camera.p_WC_m))
+  if (probe.inside)
     glClearColor(0, 0, 0, 1);
   else
     glClearColor(kRedoutClear[0], kRedoutClear[1], kRedoutClear[2], 1);
@@ -419,7 +480,7 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
     glUniform1f(glGetUniformLocation(p, "u_exposure"), static_cast<float>(optics.exposure));
     glUniform1f(glGetUniformLocation(p, "u_far"), static_cast<float>(optics.far_m));
     glUniform1i(glGetUniformLocation(p, "u_tex"), 0);
-    glUniform1i(glGetUniformLocation(p, "u_fisheye"), optics.barrel_distortion ? 1 : 0);
+    glUniform1i(glGetUniformLocation(p, "u_fisheye"), optics.barrel_distortion && !exact ? 1 : 0);
     setMat4(p, "u_view", viewMatrix(camera));
     glUniform1f(glGetUniformLocation(p, "u_half_angle"),
                 static_cast<float>(0.5 * optics.fov_diagonal_deg * kPi / 180));
@@ -442,9 +503,57 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
     gl_->scope.draw();
   }
   glDisable(GL_CLIP_DISTANCE0);
+  if (exact) {
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(outer_fbo));
+    useViewport(target);
+    glDisable(GL_DEPTH_TEST);
+    glUseProgram(gl_->warp);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, gl_->exact_colour);
+    glUniform1i(glGetUniformLocation(gl_->warp, "u_image"), 0);
+    glUniform1f(glGetUniformLocation(gl_->warp, "u_aspect"), static_cast<float>(aspect));
+    glUniform1f(glGetUniformLocation(gl_->warp, "u_half_angle"),
+                static_cast<float>(0.5 * optics.fov_diagonal_deg * kPi / 180));
+    glBindVertexArray(gl_->warp_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+  }
   glDisable(GL_SCISSOR_TEST);
   glUseProgram(0);
   endScaled(vp, target);
+}
+
+Viewport Renderer::beginExact(const Viewport& target) {
+  Gl& g = *gl_;
+  // The rectilinear image is sparser than the equidistant one at the centre (by
+  // (half_angle / tan(half_angle)) = 2.2 at 140 deg): draw it larger.
+  const int w = std::max(1, static_cast<int>(std::lround(target.width * kExactOversample)));
+  const int h = std::max(1, static_cast<int>(std::lround(target.height * kExactOversample)));
+  if (!g.exact_fbo) {
+    glGenFramebuffers(1, &g.exact_fbo);
+    glGenTextures(1, &g.exact_colour);
+    glGenRenderbuffers(1, &g.exact_depth);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, g.exact_fbo);
+  if (w != g.exact_w || h != g.exact_h) {
+    glBindTexture(GL_TEXTURE_2D, g.exact_colour);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindRenderbuffer(GL_RENDERBUFFER, g.exact_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g.exact_colour, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.exact_depth);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      g.exact_w = g.exact_h = 0;
+      throw std::runtime_error("render: the exact-distortion framebuffer is incomplete");
+    }
+    g.exact_w = w, g.exact_h = h;
+  }
+  return Viewport{0, 0, w, h};
 }
 
 void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeShape& scope,

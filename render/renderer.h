@@ -88,6 +88,8 @@ class Renderer {
   // framebuffer that was bound before. std::invalid_argument outside [0.25, 1].
   Viewport beginScaled(const Viewport& viewport, double scale);
   void endScaled(const Viewport& viewport, const Viewport& drawn);
+  // Exact distortion: binds the rectilinear target sized for `target` and returns its viewport.
+  Viewport beginExact(const Viewport& target);
   TubeOptions tube_;
   ColonRings rings_;
   TubeMesh colon_mesh_, colon_global_mesh_, scope_mesh_;

@@ -10,6 +10,9 @@ namespace colosim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Fraction of the distance to a neighbouring ring's plane a vertex may reach (see
+// buildColonMesh): below 1 so consecutive rings stay apart by a margin.
+constexpr double kRingPlaneReach = 0.95;
 
 // Two triangles per quad between ring i and ring i + 1.
 void addRingIndices(int rings, int ring_vertices, std::vector<uint32_t>& indices) {
@@ -139,6 +142,20 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
   }
   for (int i = 0; i < count; ++i) {
     const CurveFrame& f = rings.frame[i];
+    // Keep the ring between its neighbours' planes. Ring i lies in the plane through c_i
+    // normal to t_i; where the centreline bends tighter than the lumen radius, that plane
+    // meets ring i + 1's (at the bend radius rho, on the inside of the bend) within the
+    // lumen, and the wall beyond would fold over: the tube turns inside out. A vertex in
+    // direction u (unit, in the ring's plane) stays behind the next plane,
+    // (c_i + r u - c_{i+1}) . t_{i+1} < 0, while r < a / (u . t_{i+1}), a = (c_{i+1} - c_i) . t_{i+1},
+    // and ahead of the previous one while r < b / (-u . t_{i-1}), b = (c_i - c_{i-1}) . t_{i-1}
+    // (both rho on a circular bend). Each vertex is limited to kRingPlaneReach of these,
+    // so the inside of a tight bend is drawn flattened at 0.95 rho from the centreline.
+    const bool has_next = i + 1 < count, has_prev = i > 0;
+    const Vec3 t_next = has_next ? rings.frame[i + 1].t : Vec3::Zero();
+    const Vec3 t_prev = has_prev ? rings.frame[i - 1].t : Vec3::Zero();
+    const double a_m = has_next ? std::max(0.0, (rings.centre_m[i + 1] - rings.centre_m[i]).dot(t_next)) : 0.0;
+    const double b_m = has_prev ? std::max(0.0, (rings.centre_m[i] - rings.centre_m[i - 1]).dot(t_prev)) : 0.0;
     const float v = static_cast<float>(rings.s_rest_m[i] / options.texture_tile_m);
     // fold = depth * w * exp(-(d / width)^2), so r = R (1 - fold * taenia_j) as in haustralRadius.
     const double fold =
@@ -146,8 +163,12 @@ void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMes
     const double fold_amount = 1.0 - fold;  // at theta where taenia = 1
     const double R = rings.radius_m[i];
     for (int j = 0; j < rv; ++j) {
-      const double r = R * (1 - fold_amount * taenia[j]);
-      const Vec3 p = rings.centre_m[i] + r * (c[j] * f.r + s[j] * f.s);
+      const Vec3 u = c[j] * f.r + s[j] * f.s;
+      double r = R * (1 - fold_amount * taenia[j]);
+      const double toward_next = u.dot(t_next), toward_prev = -u.dot(t_prev);
+      if (toward_next * r > kRingPlaneReach * a_m) r = kRingPlaneReach * a_m / toward_next;
+      if (toward_prev * r > kRingPlaneReach * b_m) r = kRingPlaneReach * b_m / toward_prev;
+      const Vec3 p = rings.centre_m[i] + r * u;
       float* dst = &mesh.vertices[8 * (static_cast<size_t>(i) * rv + j)];
       dst[0] = static_cast<float>(p.x()), dst[1] = static_cast<float>(p.y()),
       dst[2] = static_cast<float>(p.z());
@@ -169,6 +190,10 @@ void buildColonMesh(const ColonModel& model, const Points& q, const TubeOptions&
 }
 
 bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m) {
+  return probeLumen(mesh, rings, x_m, reach_m).inside;
+}
+
+LumenProbe probeLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m) {
   const int count = std::min(mesh.rings, static_cast<int>(rings.centre_m.size()));
   const int rv = mesh.ring_vertices;
   const double reach2 = reach_m * reach_m;
@@ -204,11 +229,15 @@ bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m,
     }
   }
   int inside = 0, outside = 0;
+  LumenProbe probe;
+  probe.nearest_hit_m = std::numeric_limits<double>::infinity();
   for (int r = 0; r < 6; ++r) {
     if (!std::isfinite(hit_t[r])) continue;
     (hit_front[r] ? inside : outside) += 1;
+    probe.nearest_hit_m = std::min(probe.nearest_hit_m, hit_t[r]);
   }
-  return inside > outside;
+  probe.inside = inside > outside;
+  return probe;
 }
 
 void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,

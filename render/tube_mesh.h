@@ -75,13 +75,24 @@ double haustralRadius(double radius_m, double s_rest_m, double theta_rad, double
 /// six rays from x_m (along +-x, +-y, +-z) against the mesh's triangles whose rings lie
 /// within reach_m; a ray whose first hit is a wall facing into the lumen votes inside, one
 /// that meets the wall from behind votes outside. Inside when the inside votes win. A
-/// point in the tissue (a lens pressed into the soft wall or a fold, or where a kinked
-/// centreline turns the tube inside out) is outside. Rays that meet nothing do not vote;
+/// point in the tissue (a lens pressed into the soft wall or a fold, or beyond the
+/// flattened inside of a kink) is outside. Rays that meet nothing do not vote;
 /// no vote at all is outside.
 bool insideLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m = 0.06);
 
+/// insideLumen's answer, and the nearest of its six rays' first hits [m] (infinity when no
+/// ray meets the wall within reach): at most sqrt(3) times the distance to the wall.
+struct LumenProbe {
+  bool inside = false;
+  double nearest_hit_m = 0;
+};
+LumenProbe probeLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3& x_m, double reach_m = 0.06);
+
 /// Builds the colon wall from sampled rings. Triangles are wound counter-clockwise seen
-/// from the lumen (the front faces look inwards). [out] mesh (its buffers are reused).
+/// from the lumen (the front faces look inwards). Each vertex reaches at most 0.95 of the
+/// way to the neighbouring rings' planes, so where the centreline bends tighter than the
+/// lumen radius consecutive rings do not cross (the inside of the bend is flattened).
+/// [out] mesh (its buffers are reused).
 void buildColonMesh(const ColonRings& rings, const TubeOptions& options, TubeMesh& mesh);
 
 /// sampleColonRings then buildColonMesh.

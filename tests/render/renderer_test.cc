@@ -148,6 +148,58 @@ TEST_F(RenderTest, OnboardInTheTissueIsRedOut) {
   EXPECT_LT(redness(in_lumen), 0.3);
 }
 
+// A lens a fraction of a millimetre from the wall (the soft wall lets the scope press
+// close, and at a kink the drawn facets pass within a millimetre of it) still sees the
+// wall: no pixel shows the lumen's black through a wall cut away by the near plane.
+TEST_F(RenderTest, OnboardWallBesideTheLensIsNotCutAway) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  for (double gap_m : {0.0008, 0.0003}) {
+    for (const Vec3& forward : {Vec3(1, 0, 0), Vec3(1, 0, 0.5)}) {
+      // Between two folds (every 3 cm), where the wall is at the full radius.
+      const Image img = onboard(*ctx_, *renderer_, colon,
+                                lookAlong(Vec3(0.02 - gap_m, 0, 0.165), forward.normalized(), Vec3::UnitZ()));
+      dump(img, "onboard_touching_" + std::to_string(static_cast<int>(gap_m * 1e4)));
+      // Within 0.8 half-heights of the centre (34 deg off the axis) every ray meets the
+      // wall within twice the gap; beyond, oblique rays may run down the lumen and out of its end.
+      int black = 0;
+      const double cx = 0.5 * img.width, cy = 0.5 * img.height, h = 0.5 * img.height;
+      for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+          if (std::hypot(x + 0.5 - cx, y + 0.5 - cy) < 0.8 * h) black += luminance(img.at(x, y)) < 0.02;
+      EXPECT_EQ(black, 0) << "gap " << gap_m << ", forward " << forward.transpose();
+    }
+  }
+}
+
+// Per-vertex distortion draws a facet as the straight-edged triangle between its
+// projected vertices, which misses much of a facet that spans a wide angle next to the
+// lens (on the outside of a kink the rings fan out into facets ~12 mm long). A coarse
+// colon (one ring per 15 mm segment, 8 facets around) seen from 1 mm beside its wall
+// shows wall, not the lumen's black, all over the centre of the image.
+TEST_F(RenderTest, OnboardLongFacetsBesideTheLensLeaveNoHoles) {
+  TubeOptions coarse;
+  coarse.samples_per_segment = 1;
+  coarse.sides = 8;
+  coarse.haustra = false;
+  Renderer r(coarse);
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  // Beside the middle of a facet (between two of the 8 vertices around, between rings).
+  const double apothem_m = 0.02 * std::cos(3.14159265358979323846 / 8);
+  const Vec3 across(std::cos(3.14159265358979323846 / 8), std::sin(3.14159265358979323846 / 8), 0);
+  for (const Vec3& forward : {Vec3(across + Vec3(0, 0, 1)), Vec3(across + Vec3(0, 0, -0.3)), across}) {
+    const Image img = onboard(*ctx_, r, colon,
+                              lookAlong(Vec3((apothem_m - 0.001) * across + Vec3(0, 0, 0.1575)),
+                                        forward.normalized(), Vec3::UnitZ()));
+    dump(img, "onboard_long_facets");
+    int black = 0;
+    const double cx = 0.5 * img.width, cy = 0.5 * img.height, h = 0.5 * img.height;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x)
+        if (std::hypot(x + 0.5 - cx, y + 0.5 - cy) < 0.8 * h) black += luminance(img.at(x, y)) < 0.02;
+    EXPECT_EQ(black, 0) << "forward " << forward.transpose();
+  }
+}
+
 // The scope itself: behind the lens it is invisible (every pixel as without it), and
 // retroflexed (the tip bent back to look at the shaft) it fills part of the image.
 TEST_F(RenderTest, OnboardShowsTheScopeOnlyWhenRetroflexed) {

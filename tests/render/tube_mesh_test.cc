@@ -183,6 +183,66 @@ TEST(TubeMesh, InsideLumenFollowsTheDrawnWall) {
   EXPECT_FALSE(insideLumen(mesh, rings, at(fold, r_fold + 0.0015)));  // in the fold's tissue
   EXPECT_LT(r_fold + 0.0015, 0.02);  // ... though within the unfolded radius
   EXPECT_FALSE(insideLumen(mesh, rings, Vec3(0.2, 0, 0.13)));  // far outside: no wall in reach
+  // The nearest ray hit: about the radius on the axis, and 1.5 mm to sqrt(3) x 1.5 mm
+  // (the rays are axis-aligned, the wall is not) beside the wall between folds.
+  const LumenProbe axis = probeLumen(mesh, rings, rings.centre_m[gap]);
+  EXPECT_TRUE(axis.inside);
+  EXPECT_GT(axis.nearest_hit_m, r_fold - 0.001);
+  EXPECT_LT(axis.nearest_hit_m, 0.02 + 1e-4);
+  const double beside = probeLumen(mesh, rings, at(gap, r_gap - 0.0015)).nearest_hit_m;
+  EXPECT_GT(beside, 0.0015 - 2e-4);
+  EXPECT_LT(beside, std::sqrt(3.0) * 0.0015 + 2e-4);
+}
+
+// A colon that turns 180 degrees around a bend of centreline radius bend_m [m] in the
+// x-z plane: up +z, round the bend, back down; control points every step_m [m].
+ColonModel hairpinColon(double bend_m, double radius_m, double step_m = 0.005) {
+  std::vector<Vec3> p;
+  const int legs = 12, k = std::max(2, static_cast<int>(std::ceil(kPi * bend_m / step_m)));
+  for (int i = legs; i > 0; --i) p.push_back(Vec3(-bend_m, 0, -i * step_m));
+  for (int i = 0; i <= k; ++i) p.push_back(Vec3(-bend_m * std::cos(kPi * i / k), 0, bend_m * std::sin(kPi * i / k)));
+  for (int i = 1; i <= legs; ++i) p.push_back(Vec3(bend_m, 0, -i * step_m));
+  return test::colonThrough(test::toPoints(p), radius_m);
+}
+
+// Smallest signed distance [m] of ring b's vertices from ring a's plane, measured along
+// a's tangent times `sign` (+1: b should lie ahead of a, -1: behind).
+double ringClearance(const TubeMesh& mesh, const ColonRings& rings, int a, int b, double sign) {
+  double least = 1e300;
+  for (int j = 0; j + 1 < mesh.ring_vertices; ++j)
+    least = std::min(least,
+                     sign * (mesh.position(b * mesh.ring_vertices + j) - rings.centre_m[a]).dot(rings.frame[a].t));
+  return least;
+}
+
+// Where the centreline bends tighter than the lumen radius (a tip tenting the colon makes
+// such kinks), rings at right angles to it would cross on the inside of the bend and turn
+// the tube inside out. The rings stay ordered: every vertex of ring k + 1 lies ahead of
+// ring k's plane and every vertex of ring k behind ring k + 1's, so consecutive strips
+// cannot intersect. Gentle bends keep the full radius.
+TEST(TubeMesh, RingsNeverCrossAtABendTighterThanTheLumen) {
+  for (double bend_m : {0.01, 0.004}) {
+    const ColonModel model = hairpinColon(bend_m, 0.02);
+    for (bool haustra : {false, true}) {
+      TubeOptions opt;
+      opt.haustra = haustra;
+      ColonRings rings;
+      sampleColonRings(model, model.q_rest, opt, rings);
+      TubeMesh mesh;
+      buildColonMesh(rings, opt, mesh);
+      for (int k = 0; k + 1 < mesh.rings; ++k) {
+        ASSERT_GT(ringClearance(mesh, rings, k, k + 1, +1), 0.0) << "bend " << bend_m << ", ring " << k + 1 << " crosses ring " << k;
+        ASSERT_GT(ringClearance(mesh, rings, k + 1, k, -1), 0.0) << "bend " << bend_m << ", ring " << k << " crosses ring " << k + 1;
+      }
+      // On the straight legs, away from the bend, every vertex keeps its radius.
+      for (int i : {2, mesh.rings - 3})
+        for (int j = 0; j < opt.sides; ++j)
+          EXPECT_NEAR((mesh.position(i * mesh.ring_vertices + j) - rings.centre_m[i]).norm(),
+                      haustralRadius(rings.radius_m[i], rings.s_rest_m[i], 2 * kPi * j / opt.sides,
+                                     rings.fold_weight[i], opt),
+                      1e-6);
+    }
+  }
 }
 
 TEST(TubeMesh, RejectsBadControlPoints) {
