@@ -17,68 +17,6 @@ namespace colosim {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-using Nearest = FclContactQuery::Nearest;
-
-void updateCubics(const ColonModel& colon, const ColonState& cs, std::vector<SegmentCubic>& cubics) {
-  cubics.resize(colon.n - 1);
-  for (int j = 0; j + 1 < colon.n; ++j) cubics[j] = segmentCubic(cs.q, j);
-}
-
-inline void consider(const std::vector<SegmentCubic>& cubics, int j, const Vec3& x, Nearest& best) {
-  double d;
-  const double p = closestParameterOnCubic(cubics[j], x, 0.0, 1.0, &d);
-  if (d < best.d) best = {j, p, d};
-}
-
-// Appends a contact when the interaction point lies outside the lumen at its location.
-inline void recordIfOutside(const WorldModel& m, const std::vector<SegmentCubic>& cubics, int k, int i,
-                            const Vec3& x, const Nearest& at, std::vector<WallContact>& out) {
-  const double radius = m.colon.radiusAt(at.j, at.p);
-  if (!(at.d > radius)) return;
-  WallContact c;
-  c.scope_segment = k;
-  c.point = i;
-  c.p_W_point = x;
-  c.colon_segment = at.j;
-  c.p = at.p;
-  c.p_W_centre = cubics[at.j].at(at.p);
-  c.normal_W = (x - c.p_W_centre) / at.d;
-  c.depth_m = at.d - radius;
-  out.push_back(c);
-}
-
-// The local minimum of the distance from x along the spline, walking from segment `start`
-// (-1: none found): while the minimum sits at a segment end, try the next segment.
-Nearest walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3& x, int start) {
-  Nearest local;
-  if (start < 0) return local;
-  const int nseg = static_cast<int>(cubics.size());
-  int j = std::min(start, nseg - 1);
-  consider(cubics, j, x, local);
-  int lo = j, hi = j;
-  for (int it = 0; it < nseg; ++it) {
-    if (local.p <= 0.0 && lo > 0) {
-      const Nearest before = local;
-      consider(cubics, --lo, x, local);
-      if (local.j == before.j) break;
-    } else if (local.p >= 1.0 && hi < nseg - 1) {
-      const Nearest before = local;
-      consider(cubics, ++hi, x, local);
-      if (local.j == before.j) break;
-    } else {
-      break;
-    }
-  }
-  return local;
-}
-
-void resetOutsideTracks(const WorldModel& m, WorldState& s) {
-  const size_t P = m.scope.interaction_points_S.size();
-  for (size_t t = static_cast<size_t>(s.scope.inside) * P; t < s.track.size(); ++t) s.track[t] = WallTrack();
-}
-
 bool selfOverlap(const WorldModel& m, const ColonState& cs, int a, int b, SelfContact* c) {
   if (selfNeighbours(m.contact, m.colon, a, b)) return false;
   const Vec3 d = cs.q.col(b) - cs.q.col(a);
@@ -100,19 +38,8 @@ bool selfOverlap(const WorldModel& m, const ColonState& cs, int a, int b, SelfCo
 ScanContactQuery::ScanContactQuery(const WorldModel& model) { cubics_.reserve(model.colon.n); }
 
 void ScanContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
-  updateCubics(m.colon, s.colon, cubics_);
-  s.wall.clear();
-  const int P = static_cast<int>(m.scope.interaction_points_S.size());
-  for (int k = 0; k < s.scope.inside; ++k) {
-    for (int i = 0; i < P; ++i) {
-      const Vec3 x = interactionPoint(m.scope, s.scope, k, i);
-      Nearest best;
-      for (int j = 0; j + 1 < m.colon.n; ++j) consider(cubics_, j, x, best);
-      s.track[k * P + i] = {best.j, best.p};
-      recordIfOutside(m, cubics_, k, i, x, best, s.wall);
-    }
-  }
-  resetOutsideTracks(m, s);
+  updateSegmentCubics(s.colon.q, cubics_);
+  scanWallContacts(m, cubics_, s);
 }
 
 void ScanContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {
@@ -124,7 +51,7 @@ void ScanContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {
 }
 
 // ---------------------------------------------------------------------------------------
-// FCL broadphase with tracked, robust narrowphase.
+// FCL broadphase: the candidate search of core/contact_tracking.h.
 
 std::vector<std::string> fclManagerNames() { return {"dynamic_aabb_tree", "sap", "interval_tree"}; }
 
@@ -159,11 +86,15 @@ bool collectPair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* dat
 
 }  // namespace
 
-struct FclContactQuery::Impl {
+struct FclContactQuery::Impl final : TrackingCandidates {
+  explicit Impl(const WorldModel& m) : tracker(m) {}
+  SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
+                              const SplineLocation& local) override;
+
+  ContactTracker tracker;
   std::unique_ptr<fcl::BroadPhaseCollisionManagerd> colon_mgr, scope_mgr, sphere_mgr;
   std::vector<std::shared_ptr<fcl::Boxd>> colon_boxes;
   std::vector<std::unique_ptr<fcl::CollisionObjectd>> colon_objs, scope_objs, sphere_objs;
-  std::vector<SegmentCubic> cubics;
   std::vector<Vec3> lo, hi;  // bounds of each colon segment's centreline [m]
   std::vector<Vec3> mid;     // centre of each segment's Bezier hull ...
   std::vector<double> rho;   // ... and the radius of a ball around it holding the segment [m]
@@ -172,18 +103,38 @@ struct FclContactQuery::Impl {
   std::vector<int> fill;
   std::vector<std::pair<int, int>> grouped;
   std::vector<std::pair<double, int>> order;
-  std::vector<Nearest> axes;  // per scope segment and slice: the slice centre's spline location
-  std::vector<char> moved;    // ... and whether it was taken back to the scope's path
 };
 
-FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager) : impl_(new Impl) {
+// Other parts of the colon near x (broadphase candidates of scope segment k off the walked
+// stretch), closest bounds first, skipping those whose bounds are farther than the best so far.
+SplineLocation FclContactQuery::Impl::nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
+                                                   const SplineLocation& local) {
+  order.clear();
+  for (int c = first[k]; c < first[k + 1]; ++c) {
+    const int j = pairs[c].first;
+    if (local.j >= 0 && std::abs(j - local.j) <= 1) continue;
+    // Two lower bounds of the distance to the segment: its box (squared, no root unless
+    // it passes) and its ball.
+    const double box2 = (lo[j] - x).cwiseMax(x - hi[j]).cwiseMax(0.0).squaredNorm();
+    if (!(box2 < local.d * local.d)) continue;
+    const double bound = std::max(std::sqrt(box2), (x - mid[j]).norm() - rho[j]);
+    if (bound < local.d) order.emplace_back(bound, j);
+  }
+  std::sort(order.begin(), order.end());
+  SplineLocation other;
+  for (const auto& [bound, j] : order) {
+    if (bound >= std::min(other.d, local.d)) break;
+    considerSegment(cubics, j, x, other);
+  }
+  return other;
+}
+
+FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager) : impl_(new Impl(m)) {
   Impl& I = *impl_;
   I.colon_mgr = makeManager(manager);
   I.scope_mgr = makeManager(manager);
   I.sphere_mgr = makeManager(manager);
   const int nseg = m.colon.n - 1;
-  const ColonState rest = makeColonState(m.colon, 0);
-  updateCubics(m.colon, rest, I.cubics);
   I.lo.resize(nseg);
   I.hi.resize(nseg);
   I.mid.resize(nseg);
@@ -237,13 +188,14 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
   Impl& I = *impl_;
   const ColonModel& colon = m.colon;
   const int nseg = colon.n - 1;
-  updateCubics(colon, s.colon, I.cubics);
+  I.tracker.updateCubics(s.colon);
+  const std::vector<SegmentCubic>& cubics = I.tracker.cubics();
 
   // Broadphase: colon segments (centreline bounds inflated by the lumen radius and the
   // margin) against scope segments (their bounding cubes; those outside are parked far away).
   for (int j = 0; j < nseg; ++j) {
     // The segment lies in the convex hull of its Bezier control points: a box and a ball.
-    const SegmentCubic& c = I.cubics[j];
+    const SegmentCubic& c = cubics[j];
     const Vec3 b0 = c.c0, b3 = c.at(1.0), b1 = b0 + c.c1 / 3.0;
     const Vec3 b2 = b3 - (c.c1 + 2.0 * c.c2 + 3.0 * c.c3) / 3.0;
     I.lo[j] = b0.cwiseMin(b1).cwiseMin(b2).cwiseMin(b3);
@@ -280,120 +232,8 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
     std::sort(I.grouped.begin() + I.first[k], I.grouped.begin() + I.first[k + 1]);
   I.pairs.swap(I.grouped);
 
-  // Narrowphase per slice: first the slice's centre on the scope axis, from the anus to the
-  // tip. The scope runs inside the colon from the anus, so a slice lies next to the same
-  // slice of its proximal neighbour (h along the scope) along the colon too. When its
-  // tracked location is a far part of the colon from the neighbour's (the tracking kept
-  // another part lying against the one the scope is in: docs/hardening.md, "Contact
-  // tracking") and the centre lies deeper in the lumen next to the neighbour's location
-  // (and within reach of it), that lumen is the slice's: the far-part rule of
-  // nearestRobust then keeps its points there.
-  const int P = static_cast<int>(m.scope.interaction_points_S.size());
-  const int per_slice = m.scope.params.points_per_slice;
-  const int slices = P / per_slice;
-  I.axes.assign(static_cast<size_t>(s.scope.inside) * slices, Nearest());
-  I.moved.assign(I.axes.size(), 0);
-  for (int k = s.scope.inside - 1; k >= 0; --k) {
-    for (int sl = 0; sl < slices; ++sl) {
-      const int first = sl * per_slice;
-      const Vec3 centre = s.scope.p_W[k] + s.scope.R_WS[k] * Vec3(0, 0, m.scope.interaction_points_S[first].z());
-      Nearest axis = nearestRobust(m, centre, s.track[k * P + first].colon_segment, I.first[k], I.first[k + 1]);
-      const Nearest before = k + 1 < s.scope.inside ? I.axes[(k + 1) * slices + sl] : Nearest();
-      if (axis.j >= 0 && before.j >= 0) {
-        const double ds = std::abs(colon.arclengthAt(axis.j, axis.p) - colon.arclengthAt(before.j, before.p));
-        if (ds > m.contact.self_neighbour_radii * colon.radiusAt(before.j, before.p)) {
-          const Nearest path = walkToNearest(I.cubics, centre, before.j);
-          const double path_depth = path.d - colon.radiusAt(path.j, path.p);
-          if (path_depth <= m.contact.query_margin_m && path_depth < axis.d - colon.radiusAt(axis.j, axis.p)) {
-            axis = path;
-            I.moved[k * slices + sl] = 1;
-          }
-        }
-      }
-      I.axes[k * slices + sl] = axis;
-    }
-  }
-  // Then each slice's points, from the tip: when the whole ring is provably inside the
-  // lumen (centre distance + scope radius <= the smallest nearby radius) no interaction
-  // point of the slice can touch the wall: skip it.
-  s.wall.clear();
-  for (int k = 0; k < s.scope.inside; ++k) {
-    const int c0 = I.first[k], c1 = I.first[k + 1];
-    for (int first = 0; first < P; first += per_slice) {
-      const Nearest& axis = I.axes[k * slices + first / per_slice];
-      const bool moved = I.moved[k * slices + first / per_slice];
-      double r_min = -kInf;  // the smallest lumen radius around the slice's location [m]
-      Vec3 axis_point = Vec3::Zero();
-      if (axis.j >= 0) {
-        r_min = kInf;
-        for (int i = std::max(0, axis.j - 1); i <= std::min(colon.n - 1, axis.j + 2); ++i)
-          r_min = std::min(r_min, colon.radius_m(i));
-        if (axis.d + m.scope.radius_m <= r_min) {
-          for (int i = first; i < first + per_slice; ++i) s.track[k * P + i] = {axis.j, axis.p};
-          continue;
-        }
-        axis_point = I.cubics[axis.j].at(axis.p);
-      }
-      for (int i = first; i < first + per_slice; ++i) {
-        const Vec3 x = interactionPoint(m.scope, s.scope, k, i);
-        WallTrack& track = s.track[k * P + i];
-        // The same test per point: the spline point nearest the slice's centre is at most
-        // |x - axis_point| from x, so x is inside the lumen when that is within r_min (the
-        // points on the side of the scope away from the wall).
-        if ((x - axis_point).squaredNorm() <= r_min * r_min && r_min > 0) {
-          track = {axis.j, axis.p};
-          continue;
-        }
-        const int start = (track.colon_segment >= 0 && !moved) ? track.colon_segment : axis.j;
-        const Nearest best = nearestRobust(m, x, start, c0, c1);
-        track = {best.j, best.p};
-        recordIfOutside(m, I.cubics, k, i, x, best, s.wall);
-      }
-    }
-  }
-  resetOutsideTracks(m, s);
-}
-
-Nearest FclContactQuery::nearestRobust(const WorldModel& m, const Vec3& x, int start, int c0, int c1) {
-  Impl& I = *impl_;
-  const ColonModel& colon = m.colon;
-  const int nseg = colon.n - 1;
-  // 1. Walk along the spline from the start segment (the tracked location) to the local
-  //    minimum of the distance.
-  const Nearest local = walkToNearest(I.cubics, x, start);
-  // 2. Other parts of the colon near x (broadphase candidates off the walked stretch),
-  //    closest bounds first, skipping those whose bounds are farther than the best so far.
-  I.order.clear();
-  for (int c = c0; c < c1; ++c) {
-    const int j = I.pairs[c].first;
-    if (local.j >= 0 && std::abs(j - local.j) <= 1) continue;
-    // Two lower bounds of the distance to the segment: its box (squared, no root unless
-    // it passes) and its ball.
-    const double box2 = (I.lo[j] - x).cwiseMax(x - I.hi[j]).cwiseMax(0.0).squaredNorm();
-    if (!(box2 < local.d * local.d)) continue;
-    const double bound = std::max(std::sqrt(box2), (x - I.mid[j]).norm() - I.rho[j]);
-    if (bound < local.d) I.order.emplace_back(bound, j);
-  }
-  std::sort(I.order.begin(), I.order.end());
-  Nearest other;
-  for (const auto& [bound, j] : I.order) {
-    if (bound >= std::min(other.d, local.d)) break;
-    consider(I.cubics, j, x, other);
-  }
-  if (local.j < 0) {
-    if (other.j >= 0) return other;
-    Nearest all;  // nothing tracked and nothing near: the paper's scan
-    for (int j = 0; j < nseg; ++j) consider(I.cubics, j, x, all);
-    return all;
-  }
-  if (other.j < 0 || other.d >= local.d) return local;
-  // 3. Another part is nearer. It takes over unless it is a different part of the colon
-  //    (far in arclength: the other side of a loop) while x is still within reach of the
-  //    tracked lumen.
-  const double ds = std::abs(colon.arclengthAt(other.j, other.p) - colon.arclengthAt(local.j, local.p));
-  const bool far_part = ds > m.contact.self_neighbour_radii * colon.radiusAt(local.j, local.p);
-  const double reach = colon.radiusAt(local.j, local.p) + m.contact.query_margin_m;
-  return (far_part && local.d <= reach) ? local : other;
+  // Narrowphase: the contact model's tracking, with the broadphase's candidates.
+  I.tracker.trackWallContacts(m, s, I);
 }
 
 void FclContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {

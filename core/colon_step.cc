@@ -65,42 +65,64 @@ void buildConstantSystem(const ColonModel& m, ColonState& s, double dt) {
   s.constant_system_dt_s = dt;
 }
 
-}  // namespace
-
-void elementStrain(const ColonModel& m, const ColonState& s, int e, double* strain,
-                   double* strain_rate) {
-  const Vec3 d = s.q.col(e + 1) - s.q.col(e);
-  const double l = d.norm();
-  const double l0 = m.rest_length_m(e);
-  *strain = (l - l0) / l0;
-  *strain_rate = (l > 0) ? d.dot(s.v.col(e + 1) - s.v.col(e)) / (l * l0) : 0.0;
+// Spreads a load at a spline point (blending b) over its 4 control points: f_i += w_a F,
+// rhs_i -= dt^2 w_a K v_point, and (w_a w_c) H into the system's block (i, l) for l <= i,
+// with F the force [N], Kv = K v_point its stiffness times the point's velocity [N/s]
+// and H = dt C + dt^2 K its implicit part.
+void spreadPointLoad(const Blend& b, const Vec3& force_N, const Vec3& Kv, const Mat3& H, double dt, double* f,
+                     double* rhs, BandedSpd& system) {
+  for (int a = 0; a < 4; ++a) {
+    const int i = b.index[a];
+    for (int c = 0; c < 3; ++c) {
+      f[3 * i + c] += b.w[a] * force_N(c);
+      rhs[3 * i + c] -= dt * dt * b.w[a] * Kv(c);
+    }
+    for (int c2 = 0; c2 < 4; ++c2) {
+      const int l = b.index[c2];
+      if (i >= l) addBlock(system, i, l, (b.w[a] * b.w[c2]) * H);
+    }
+  }
 }
 
-void stepColon(const ColonModel& m, ColonState& s, double dt) {
+// ---------------------------------------------------------------------------------------
+// The stages of stepColon(), in order. Each adds its forces to s.force, its -dt^2 K v to
+// s.rhs and its dt C + dt^2 K to s.system.
+
+// Constant part of the system (mass and mesentery), rebuilt only when dt changes.
+void startSystem(const ColonModel& m, ColonState& s, double dt) {
+  if (s.constant_system_dt_s != dt) buildConstantSystem(m, s, dt);
+  s.system.copyFrom(s.constant_system);
+}
+
+// Gravity, f = (M 1) g (sets the forces).
+void setGravity(const ColonModel& m, ColonState& s) {
+  double* f = s.force.data();
+  for (int i = 0; i < m.n; ++i)
+    for (int d = 0; d < 3; ++d) f[3 * i + d] = m.mass_rowsum_kg(i) * m.gravity_m_per_s2(d);
+}
+
+// Mesentery lifters (eqs. 4-5): f -= K (q - q0) + C v; rhs = -dt^2 K v (sets the rhs).
+void addMesentery(const ColonModel& m, ColonState& s, double dt) {
   const int n = m.n;
-  const int zs = m.tension_law->internalSize();
   double* f = s.force.data();
   double* rhs = s.rhs.data();
   const double* q = s.q.data();
   const double* v = s.v.data();
-
-  // Constant part of the system (mass and mesentery), rebuilt only when dt changes.
-  if (s.constant_system_dt_s != dt) buildConstantSystem(m, s, dt);
-  s.system.copyFrom(s.constant_system);
-
-  // Forces: gravity, f = (M 1) g.
-  for (int i = 0; i < n; ++i)
-    for (int d = 0; d < 3; ++d) f[3 * i + d] = m.mass_rowsum_kg(i) * m.gravity_m_per_s2(d);
-
-  // Mesentery lifters (eqs. 4-5): f -= K (q - q0) + C v; rhs term -dt^2 K v.
   double* dq = s.scratch.data();
   for (int k = 0; k < 3 * n; ++k) dq[k] = q[k] - m.q_rest.data()[k];
   addScalarBandTimes(m.mesentery_K, dq, -1.0, f);
   addScalarBandTimes(m.mesentery_C, v, -1.0, f);
   for (int k = 0; k < 3 * n; ++k) rhs[k] = 0.0;
   addScalarBandTimes(m.mesentery_K, v, -dt * dt, rhs);
+}
 
-  // Tension elements (eq. 6) between consecutive control points.
+// Tension elements (eq. 6) between consecutive control points; records each element's
+// force in s.tension_force_N.
+void addTensionElements(const ColonModel& m, ColonState& s, double dt) {
+  const int n = m.n;
+  const int zs = m.tension_law->internalSize();
+  double* f = s.force.data();
+  double* rhs = s.rhs.data();
   for (int e = 0; e + 1 < n; ++e) {
     const Vec3 d = s.q.col(e + 1) - s.q.col(e);
     const double l = d.norm();
@@ -134,74 +156,67 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
     addBlock(s.system, e + 1, e + 1, H);
     addBlock(s.system, e + 1, e, -H);
   }
+}
 
-  // Stiffening lifters (mesentery_stiffening, colon_extensions.h): the part beyond the
-  // linear K of eq. 4, by 4-point Gauss quadrature over each segment.
-  if (m.mesentery_stiffening_per_m2 > 0) {
-    const double beta = m.mesentery_stiffening_per_m2;
-    for (int j = 0; j + 1 < n; ++j) {
-      const double k0 = m.segment_k_N_per_m2(j);
-      if (!(k0 > 0)) continue;
-      for (int g = 0; g < Gauss4::kCount; ++g) {
-        const Blend b = blend(n, j, Gauss4::node[g], 0);
-        const double w = Gauss4::weight[g] * m.segment_length_m(j);  // [m]
-        const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
-        const Vec3 fd = w * lifterStiffeningForceDensity(u, k0, beta);  // [N]
-        const Mat3 T = w * lifterStiffeningTangent(u, k0, beta);        // [N/m]
-        const Vec3 Tv = T * apply(b, s.v);
-        const Mat3 H = dt * dt * T;
-        for (int a = 0; a < 4; ++a) {
-          const int i = b.index[a];
-          for (int c = 0; c < 3; ++c) {
-            f[3 * i + c] += b.w[a] * fd(c);
-            rhs[3 * i + c] -= dt * dt * b.w[a] * Tv(c);
-          }
-          for (int c2 = 0; c2 < 4; ++c2) {
-            const int l = b.index[c2];
-            if (i >= l) addBlock(s.system, i, l, (b.w[a] * b.w[c2]) * H);
-          }
-        }
-      }
+// Stiffening lifters (mesentery_stiffening, colon_extensions.h): the part beyond the
+// linear K of eq. 4, by 4-point Gauss quadrature over each segment, each node's force
+// spread like a load.
+void addLifterStiffening(const ColonModel& m, ColonState& s, double dt) {
+  const int n = m.n;
+  const double beta = m.mesentery_stiffening_per_m2;
+  for (int j = 0; j + 1 < n; ++j) {
+    const double k0 = m.segment_k_N_per_m2(j);
+    if (!(k0 > 0)) continue;
+    for (int g = 0; g < Gauss4::kCount; ++g) {
+      const Blend b = blend(n, j, Gauss4::node[g], 0);
+      const double w = Gauss4::weight[g] * m.segment_length_m(j);  // [m]
+      const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
+      const Vec3 fd = w * lifterStiffeningForceDensity(u, k0, beta);  // [N]
+      const Mat3 T = w * lifterStiffeningTangent(u, k0, beta);        // [N/m]
+      const Vec3 Tv = T * apply(b, s.v);
+      const Mat3 H = dt * dt * T;
+      spreadPointLoad(b, fd, Tv, H, dt, s.force.data(), s.rhs.data(), s.system);
     }
   }
+}
 
-  // Bending of the colon wall (colon_bending, colon_extensions.h) at interior control points.
-  if (m.bending_EI_Nm2 > 0) {
-    for (int i = 1; i + 1 < n; ++i) {
-      const BendingResponse r = bendingAtPoint(s.q.col(i - 1), s.q.col(i), s.q.col(i + 1),
-                                               m.bend_rest_angle_rad(i), m.bending_EI_Nm2, m.bend_length_m(i));
-      for (int j = 0; j < 3; ++j) {
-        Vec3 Kv = Vec3::Zero();
-        for (int k = 0; k < 3; ++k) Kv += r.stiffness_N_per_m[j][k] * s.v.col(i - 1 + k);
-        for (int c = 0; c < 3; ++c) {
-          f[3 * (i - 1 + j) + c] += r.force_N[j](c);
-          rhs[3 * (i - 1 + j) + c] -= dt * dt * Kv(c);
-        }
-        for (int k = 0; k <= j; ++k) addBlock(s.system, i - 1 + j, i - 1 + k, dt * dt * r.stiffness_N_per_m[j][k]);
+// Bending of the colon wall (colon_bending, colon_extensions.h) at interior control points.
+void addWallBending(const ColonModel& m, ColonState& s, double dt) {
+  const int n = m.n;
+  double* f = s.force.data();
+  double* rhs = s.rhs.data();
+  for (int i = 1; i + 1 < n; ++i) {
+    const BendingResponse r = bendingAtPoint(s.q.col(i - 1), s.q.col(i), s.q.col(i + 1),
+                                             m.bend_rest_angle_rad(i), m.bending_EI_Nm2, m.bend_length_m(i));
+    for (int j = 0; j < 3; ++j) {
+      Vec3 Kv = Vec3::Zero();
+      for (int k = 0; k < 3; ++k) Kv += r.stiffness_N_per_m[j][k] * s.v.col(i - 1 + k);
+      for (int c = 0; c < 3; ++c) {
+        f[3 * (i - 1 + j) + c] += r.force_N[j](c);
+        rhs[3 * (i - 1 + j) + c] -= dt * dt * Kv(c);
       }
+      for (int k = 0; k <= j; ++k) addBlock(s.system, i - 1 + j, i - 1 + k, dt * dt * r.stiffness_N_per_m[j][k]);
     }
   }
+}
 
-  // External loads at spline points, distributed by the blending functions.
+// External loads (contacts, abdominal pressure) at spline points.
+void addSplineLoads(const ColonModel& m, ColonState& s, double dt) {
   for (const SplineLoad& load : s.loads) {
-    const Blend b = blend(n, load.segment, load.p, 0);
+    const Blend b = blend(m.n, load.segment, load.p, 0);
     const Vec3 v_point = apply(b, s.v);
     const Vec3 Kv = load.stiffness_N_per_m * v_point;
     const Mat3 H = dt * load.damping_Ns_per_m + dt * dt * load.stiffness_N_per_m;
-    for (int a = 0; a < 4; ++a) {
-      const int i = b.index[a];
-      for (int c = 0; c < 3; ++c) {
-        f[3 * i + c] += b.w[a] * load.force_N(c);
-        rhs[3 * i + c] -= dt * dt * b.w[a] * Kv(c);
-      }
-      for (int c2 = 0; c2 < 4; ++c2) {
-        const int l = b.index[c2];
-        if (i >= l) addBlock(s.system, i, l, (b.w[a] * b.w[c2]) * H);
-      }
-    }
+    spreadPointLoad(b, load.force_N, Kv, H, dt, s.force.data(), s.rhs.data(), s.system);
   }
+}
 
-  // Solve (M + dt C + dt^2 K) dv = dt f - dt^2 K v.
+// Solve (M + dt C + dt^2 K) dv = dt f - dt^2 K v, dv left in s.rhs. Returns s.solver_ok:
+// false when the factorisation failed or the solve gave a non-finite value.
+bool solveVelocityChange(const ColonModel& m, ColonState& s, double dt) {
+  const int n = m.n;
+  const double* f = s.force.data();
+  double* rhs = s.rhs.data();
   for (int k = 0; k < 3 * n; ++k) rhs[k] += dt * f[k];
   s.limited_points = 0;
   s.asked_speed_m_per_s = 0;
@@ -210,13 +225,14 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
     s.system.solveInPlace(rhs);
     for (int k = 0; k < 3 * n; ++k) s.solver_ok = s.solver_ok && std::isfinite(rhs[k]);
   }
-  if (!s.solver_ok) {  // limit: the colon stops for this step rather than carry NaN on
-    s.v.setZero();
-    s.time_s += dt;
-    return;
-  }
+  return s.solver_ok;
+}
 
-  // Limit: a control point faster than the solve is trusted with is slowed to that speed.
+// Integrate: v += dv, q += dt v. Limit: a control point faster than the solve is trusted
+// with is slowed to that speed.
+void integratePoints(const ColonModel& m, ColonState& s, double dt) {
+  const int n = m.n;
+  const double* rhs = s.rhs.data();
   double* vw = s.v.data();
   for (int i = 0; i < n; ++i) {
     Eigen::Map<Vec3> vi(vw + 3 * i);
@@ -228,19 +244,51 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
       ++s.limited_points;
     }
   }
-  // Integrate: q += dt v.
   double* qw = s.q.data();
   for (int k = 0; k < 3 * n; ++k) qw[k] += dt * vw[k];
-  s.time_s += dt;
+}
 
-  // Internal variables of history-dependent tension laws, at the end of the step.
-  if (zs > 0) {
-    for (int e = 0; e + 1 < n; ++e) {
-      double strain, strain_rate;
-      elementStrain(m, s, e, &strain, &strain_rate);
-      m.tension_law->advance(m.lawStrain(strain), strain_rate, dt, &s.tension_internal[e * zs]);
-    }
+// Internal variables of history-dependent tension laws, at the end of the step.
+void advanceTensionInternals(const ColonModel& m, ColonState& s, double dt) {
+  const int zs = m.tension_law->internalSize();
+  for (int e = 0; e + 1 < m.n; ++e) {
+    double strain, strain_rate;
+    elementStrain(m, s, e, &strain, &strain_rate);
+    m.tension_law->advance(m.lawStrain(strain), strain_rate, dt, &s.tension_internal[e * zs]);
   }
+}
+
+}  // namespace
+
+void elementStrain(const ColonModel& m, const ColonState& s, int e, double* strain,
+                   double* strain_rate) {
+  const Vec3 d = s.q.col(e + 1) - s.q.col(e);
+  const double l = d.norm();
+  const double l0 = m.rest_length_m(e);
+  *strain = (l - l0) / l0;
+  *strain_rate = (l > 0) ? d.dot(s.v.col(e + 1) - s.v.col(e)) / (l * l0) : 0.0;
+}
+
+void stepColon(const ColonModel& m, ColonState& s, double dt) {
+  // Forces and the system: the constant part (mass, mesentery), gravity, the mesentery's
+  // forces, the tension elements, the extensions the model switches on, the loads.
+  startSystem(m, s, dt);
+  setGravity(m, s);
+  addMesentery(m, s, dt);
+  addTensionElements(m, s, dt);
+  if (m.mesentery_stiffening_per_m2 > 0) addLifterStiffening(m, s, dt);
+  if (m.bending_EI_Nm2 > 0) addWallBending(m, s, dt);
+  addSplineLoads(m, s, dt);
+  // Solve. Limit: the colon stops for this step rather than carry NaN on.
+  if (!solveVelocityChange(m, s, dt)) {
+    s.v.setZero();
+    s.time_s += dt;
+    return;
+  }
+  // Integrate (with the speed limit), then the tension laws' history.
+  integratePoints(m, s, dt);
+  s.time_s += dt;
+  if (m.tension_law->internalSize() > 0) advanceTensionInternals(m, s, dt);
 }
 
 ColonEnergy colonEnergy(const ColonModel& m, const ColonState& s) {

@@ -5,6 +5,7 @@
 
 #include "core/block_tridiagonal.h"
 #include "core/handle_input.h"
+#include "core/scope_kinematics.h"
 #include "core/scope_model.h"
 
 namespace colosim {
@@ -55,7 +56,8 @@ struct ScopeState {
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;
-  /// The state at the start of the step, to step again from when the grip slips.
+  /// The state at the start of the step, to step again from when the grip slips (the
+  /// fields a step changes before the grip: saveStart() and restoreStart() copy them).
   struct Start {
     std::vector<Vec3> p_W, v_W, w_W;
     std::vector<Mat3> R_WS;
@@ -70,27 +72,10 @@ struct ScopeState {
 /// The scope withdrawn (tip at the anus), with scratch sized for the model.
 ScopeState makeScopeState(const ScopeModel& model, int load_capacity = 4096);
 
-/// The pose of segment k when it is outside (kinematic): straight along the entry
-/// direction at insertion depth L [m], turned by the handle rotation phi [rad].
-void kinematicPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad,
-                   Vec3* p_W, Mat3* R_WS);
-
-/// The pose of segment k when it is the first outside segment and left the chain turned by
-/// `tilt_rad` from its straight pose (a world rotation vector, applied after the handle's
-/// turn, so that turning the handle spins the segment about its own axis) [rad]: its axis passes through the
-/// anus and the tilt fades linearly as its length comes out, from all of it when its
-/// proximal end is at the anus (insertion (k+1) h) to none when its distal end is
-/// (insertion k h), where it matches kinematicPose().
-void exitPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad, const Vec3& tilt_rad,
-              Vec3* p_W, Mat3* R_WS);
-
-/// Clamps handle inputs into the scope's ranges (insertion within the working length,
-/// knobs within their stops); NaN becomes 0.
-HandleInput clampHandleInput(const ScopeModel& model, const HandleInput& in);
-
-/// Tip position [m] and frame (the tip segment's material frame; the camera looks along d3).
-Vec3 tipPosition(const ScopeModel& model, const ScopeState& state);
-Mat3 tipFrame(const ScopeState& state);
+/// Copies the fields of ScopeState::Start from the state into state.start (saveStart) or
+/// back (restoreStart). Allocates nothing.
+void saveStart(ScopeState& state);
+void restoreStart(ScopeState& state);
 
 /// Flat snapshot of the physical state, and its restoration (same model).
 std::vector<double> getScopeState(const ScopeState& state);

@@ -1,4 +1,6 @@
 // One time step of the colonoscope: linearised backward Euler on the segment chain.
+// The step's pipeline is stepScope() (grip stages in core/scope_grip.h) around
+// advanceScope() (inputs, joining segments, forces, solve, integrate, handle reaction).
 //
 // Unknowns: the velocity and angular velocity of every simulated segment (6 each). Forces:
 // gravity, drag, the joints (a stiff penalty keeping consecutive segments joined, and
@@ -30,8 +32,12 @@ namespace colosim {
 /// force of the last joint on the outside part over the step.
 void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s);
 
-/// Rest relative rotation of joint k (between segment k and k+1) for the knob angles [rad].
-Vec3 restJointRotation(const ScopeModel& model, int joint, const HandleInput& in);
+/// The step with the outside part taken to `in` (already clamped and gripped): everything
+/// of stepScope() but the grip. `inside_set` >= 0 sets the number of simulated segments
+/// instead of the insertion (the grip's trials keep those of the hand's move, so that the
+/// reaction stays affine in the move). Allocates nothing.
+void advanceScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s,
+                  int inside_set = -1);
 
 /// Kinetic energy and elastic energy of the joints [J] (for tests).
 double scopeKineticEnergy(const ScopeModel& model, const ScopeState& state);

@@ -1,0 +1,51 @@
+#include "core/scope_kinematics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/rotation.h"
+#include "core/scope_state.h"
+
+namespace colosim {
+
+void kinematicPose(const ScopeModel& m, int k, double L, double phi, Vec3* p, Mat3* R) {
+  const Vec3 e = m.R_W_entry.col(2);
+  const double s_centre = (k + 0.5) * m.h_m;
+  *p = m.p_W_anus + (L - s_centre) * e;
+  *R = expSO3(phi * e) * m.R_W_entry;
+}
+
+void exitPose(const ScopeModel& m, int k, double L, double phi, const Vec3& tilt_rad, Vec3* p, Mat3* R) {
+  const Vec3 e = m.R_W_entry.col(2);
+  const double out = std::clamp(((k + 1) * m.h_m - L) / m.h_m, 0.0, 1.0);  // fraction of its length outside
+  *R = expSO3((1.0 - out) * tilt_rad) * expSO3(phi * e) * m.R_W_entry;
+  *p = m.p_W_anus + (L - (k + 0.5) * m.h_m) * R->col(2);
+}
+
+HandleInput clampHandleInput(const ScopeModel& m, const HandleInput& in) {
+  auto finite = [](double x) { return std::isfinite(x) ? x : 0.0; };
+  HandleInput c;
+  const double max_insertion = (m.segment_count - 1) * m.h_m;
+  c.insertion_m = std::clamp(finite(in.insertion_m), 0.0, max_insertion);
+  c.rotation_rad = finite(in.rotation_rad);
+  c.knob_updown_rad = std::clamp(finite(in.knob_updown_rad), -kKnobUpDownMax_rad, kKnobUpDownMax_rad);
+  c.knob_leftright_rad =
+      std::clamp(finite(in.knob_leftright_rad), -kKnobLeftRightMax_rad, kKnobLeftRightMax_rad);
+  return c;
+}
+
+Vec3 restJointRotation(const ScopeModel& m, int joint, const HandleInput& in) {
+  if (joint >= m.bending_joints) return Vec3::Zero();
+  // Up bends d3 towards d2: a rotation about d1 by -angle. Right bends d3 towards the
+  // image's right, -d1: a rotation about d2 by -angle.
+  const double n = m.bending_joints;
+  return Vec3(-in.knob_updown_rad / n, -in.knob_leftright_rad / n, 0.0);
+}
+
+Vec3 tipPosition(const ScopeModel& m, const ScopeState& s) {
+  return s.p_W[0] + 0.5 * m.h_m * s.R_WS[0].col(2);
+}
+
+Mat3 tipFrame(const ScopeState& s) { return s.R_WS[0]; }
+
+}  // namespace colosim

@@ -1,0 +1,40 @@
+// Scope kinematics: where the handle puts the part outside the patient, the knobs' rest
+// bend of the steerable tip, the clamping of handle inputs and the tip's pose. Free
+// functions of the model (and, for the tip, the state): no dynamics here.
+#pragma once
+
+#include "core/handle_input.h"
+#include "core/scope_model.h"
+
+namespace colosim {
+
+struct ScopeState;
+
+/// The pose of segment k when it is outside (kinematic): straight along the entry
+/// direction at insertion depth L [m], turned by the handle rotation phi [rad].
+/// p_W = p_anus + (L - (k + 1/2) h) e,  R_WS = exp(phi e) R_entry,  e = R_entry d3.
+void kinematicPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad,
+                   Vec3* p_W, Mat3* R_WS);
+
+/// The pose of segment k when it is the first outside segment and left the chain turned by
+/// `tilt_rad` from its straight pose (a world rotation vector, applied after the handle's
+/// turn, so that turning the handle spins the segment about its own axis) [rad]: its axis passes through the
+/// anus and the tilt fades linearly as its length comes out, from all of it when its
+/// proximal end is at the anus (insertion (k+1) h) to none when its distal end is
+/// (insertion k h), where it matches kinematicPose().
+void exitPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad, const Vec3& tilt_rad,
+              Vec3* p_W, Mat3* R_WS);
+
+/// Clamps handle inputs into the scope's ranges (insertion within the working length,
+/// knobs within their stops); NaN becomes 0.
+HandleInput clampHandleInput(const ScopeModel& model, const HandleInput& in);
+
+/// Rest relative rotation of joint k (between segment k and k+1) for the knob angles [rad]:
+/// each of the model.bending_joints joints of the steerable tip takes 1/n of the knob angles.
+Vec3 restJointRotation(const ScopeModel& model, int joint, const HandleInput& in);
+
+/// Tip position [m] and frame (the tip segment's material frame; the camera looks along d3).
+Vec3 tipPosition(const ScopeModel& model, const ScopeState& state);
+Mat3 tipFrame(const ScopeState& state);
+
+}  // namespace colosim
