@@ -122,13 +122,6 @@ Diagnostics diagnose(const InsertionRecording& rec, const InsertionFit& fit) {
   std::vector<double> res(n);
   for (size_t k = 0; k < n; ++k) res[k] = rec.force_N[k] - fit.prediction.force_N[k] - fit.offset_N;
   Diagnostics d = diagnoseResidual(fit.rmse_N, res);
-  {  // TEMPORARY (the next commit): the old estimator, the median of |differences| uncentred.
-    std::vector<double> dr;
-    for (size_t k = 1; k < n; ++k) dr.push_back(std::abs(res[k] - res[k - 1]));
-    std::nth_element(dr.begin(), dr.begin() + dr.size() / 2, dr.end());
-    d.noise_sd_N = 1.4826 * dr[dr.size() / 2] / std::sqrt(2.0);
-    d.rmse_over_noise = d.noise_sd_N > 0 ? d.rmse_N / d.noise_sd_N : 0;
-  }
   std::vector<int> bin(n);
   auto profile = [&](const std::string& var, const std::vector<std::string>& labels) {
     d.profiles.push_back(residualProfile(var, res, bin, static_cast<int>(labels.size())));
