@@ -1,7 +1,9 @@
 #include "identify/selection.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <thread>
 
 namespace colosim {
 
@@ -49,6 +51,17 @@ int weighRound(int round, const ModelScore& current, const std::vector<Candidate
 
 bool noCandidateCanPay(double heldout_rmse_N, double noise_sd_N, const IdentifyOptions& o) {
   return heldout_rmse_N < o.min_heldout_ratio * noise_sd_N;
+}
+
+void runInParallel(size_t n, int threads, const std::function<void(size_t)>& job) {
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t i = next++; i < n; i = next++) job(i);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
 }
 
 ResidualProfile residualProfile(const std::string& variable, const std::vector<double>& residual_N,

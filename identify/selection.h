@@ -5,6 +5,8 @@
 // forward model and the candidates; everything that decides is here, once.
 #pragma once
 
+#include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -74,6 +76,11 @@ int weighRound(int round, const ModelScore& current, const std::vector<Candidate
 /// heldout_rmse_N / min_heldout_ratio; when that is under the white-noise level no model
 /// can, and a further round need not run.
 bool noCandidateCanPay(double heldout_rmse_N, double noise_sd_N, const IdentifyOptions& o);
+
+/// Runs job(0) ... job(n - 1) on `threads` threads (this one and threads - 1 more), each
+/// index once. The candidates of a round are independent deterministic fits or replays,
+/// so the results do not depend on the scheduling.
+void runInParallel(size_t n, int threads, const std::function<void(size_t)>& job);
 
 /// Residual structure in bins of one variable: mean residual and count per bin.
 struct ResidualProfile {

@@ -1,14 +1,12 @@
 #include "identify/insertion/identify.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
-#include <thread>
 
 #include "identify/report.h"
 #include "trainer/tension_law_file.h"
@@ -38,19 +36,11 @@ double upperBound(const std::string& e) {
   return 0.95;  // relax_g1, soften_d_inf < 1
 }
 
-// Runs the replays of several extension sets on `threads` threads (each replay is
-// independent and deterministic, so the results do not depend on the scheduling).
+// Runs the replays of several extension sets on `threads` threads.
 std::vector<Prediction> replayAll(const ReplaySetup& setup, const InsertionRecording& rec,
                                   const std::vector<OrganParams>& jobs, int threads) {
   std::vector<Prediction> out(jobs.size());
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t i = next++; i < jobs.size(); i = next++) out[i] = replayInsertion(setup, rec, jobs[i]);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+  runInParallel(jobs.size(), threads, [&](size_t i) { out[i] = replayInsertion(setup, rec, jobs[i]); });
   return out;
 }
 

@@ -7,7 +7,6 @@
 #include <memory>
 #include <numeric>
 #include <stdexcept>
-#include <thread>
 
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
@@ -522,16 +521,11 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       if (std::find(current.model.effects.begin(), current.model.effects.end(), e) == current.model.effects.end())
         names.push_back(e);
     std::vector<Fit> cands(names.size());
-    auto work_on = [&](size_t first, size_t step) {
-      for (size_t i = first; i < names.size(); i += step) {
-        std::vector<std::string> effects = current.model.effects;
-        effects.push_back(names[i]);
-        cands[i] = fitModel(w, effects, startsFor(w, current.model, names[i]), wr.fold, o.folds);
-      }
-    };
-    std::thread helper(work_on, 1, 2);
-    work_on(0, 2);
-    helper.join();
+    runInParallel(names.size(), 2, [&](size_t i) {
+      std::vector<std::string> effects = current.model.effects;
+      effects.push_back(names[i]);
+      cands[i] = fitModel(w, effects, startsFor(w, current.model, names[i]), wr.fold, o.folds);
+    });
     const int best = weighRound(round, current.model, candidatesOf(names, cands), o, &r.evidence);
     if (round == 1) round1 = cands, round1_names = names;
     if (best < 0) break;
@@ -550,13 +544,9 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     for (const std::string& e : tensionEffectNames())
       if (e != a && e != b) names.push_back(e);
     std::vector<Fit> cands(names.size());
-    auto work_on = [&](size_t first, size_t step) {
-      for (size_t i = first; i < names.size(); i += step)
-        cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
-    };
-    std::thread helper(work_on, 1, 2);
-    work_on(0, 2);
-    helper.join();
+    runInParallel(names.size(), 2, [&](size_t i) {
+      cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
+    });
     const int best = weighRound(3, current.model, candidatesOf(names, cands), o, &r.evidence);
     if (best >= 0) {
       current = std::move(cands[best]);
