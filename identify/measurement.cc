@@ -88,7 +88,8 @@ Measurement parseMeasurement(std::istream& in, const std::string& path, const Me
     ++lineno;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (lineno == 1) {
-      if (trim(line) != kMeasurementFormatLine) fail(path, 1, std::string("expected '") + kMeasurementFormatLine + "' as the first line");
+      if (trim(line) != kMeasurementFormatLine)
+        fail(path, 1, std::string("expected '") + kMeasurementFormatLine + "' as the first line");
       continue;
     }
     if (trim(line).empty()) {

@@ -180,6 +180,57 @@ double parabolaVertex(const InsertionRecording& rec, const Evaluated& ev) {
   return std::exp(x);
 }
 
+// The diagnosis, for people: the paper's model and where it fails, the named causes and
+// the gain, a round not run, the cost.
+std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdentifyOptions& o) {
+  std::ostringstream d;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "Paper's model (no wall friction, no colon bending, linear lifters, Voigt tension): handle force "
+                "RMSE %.3f N (held out %.3f N), %.1f times the noise (%.3f N).\n",
+                r.baseline.rmse_N, r.baseline.heldout_rmse_N, r.baseline_diagnostics.rmse_over_noise,
+                r.baseline_diagnostics.noise_sd_N);
+  d << buf;
+  for (const ResidualProfile& p : r.baseline_diagnostics.profiles) {
+    d << "  residual against " << p.variable << ":";
+    for (size_t b = 0; b < p.bin.size(); ++b) {
+      std::snprintf(buf, sizeof buf, " %s %+.3f N (%d)", p.bin[b].c_str(), p.mean_residual_N[b], p.count[b]);
+      d << buf;
+    }
+    d << "\n";
+  }
+  if (r.effects.empty()) {
+    std::snprintf(buf, sizeof buf, "No candidate pays for itself (held-out error -%.0f %% and BIC %.0f): ",
+                  (o.min_heldout_ratio - 1) * 100, o.max_delta_bic);
+    d << buf
+      << (r.unexplained ? "structure remains that no candidate explains (unexplained).\n"
+                        : "the paper's model explains the recording to the noise.\n");
+  } else {
+    d << "Named cause(s):";
+    for (const std::string& e : r.effects) {
+      const auto pu = organEffectParameter(e);
+      std::snprintf(buf, sizeof buf, " %s (%s = %.4g %s)", e.c_str(), pu.first.c_str(),
+                    organEffectValue(r.extended.params, e), pu.second.c_str());
+      d << buf;
+    }
+    std::snprintf(buf, sizeof buf, ". Extended model: RMSE %.3f N, held out %.3f N; held-out gain %.2fx.%s\n",
+                  r.extended.rmse_N, r.extended.heldout_rmse_N, r.heldout_rmse_ratio,
+                  r.unexplained ? " Structure remains (unexplained)." : "");
+    d << buf;
+  }
+  if (r.skipped_round > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "Round %d not run: the held-out RMSE %.3f N is within %.0f %% of the white-noise level %.3f N, so "
+                  "no further effect could pay.\n",
+                  r.skipped_round, r.extended.heldout_rmse_N, (o.min_heldout_ratio - 1) * 100, r.skipped_noise_sd_N);
+    d << buf;
+  }
+  std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
+                r.search_spacing_m, r.seconds);
+  d << buf;
+  return d.str();
+}
+
 }  // namespace
 
 int insertionMotion(const InsertionRecording& rec, size_t k) {
@@ -360,52 +411,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   r.unexplained = isUnexplained(r.extended_diagnostics, o);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
 
-  std::ostringstream d;
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "Paper's model (no wall friction, no colon bending, linear lifters, Voigt tension): handle force "
-                "RMSE %.3f N (held out %.3f N), %.1f times the noise (%.3f N).\n",
-                r.baseline.rmse_N, r.baseline.heldout_rmse_N, r.baseline_diagnostics.rmse_over_noise,
-                r.baseline_diagnostics.noise_sd_N);
-  d << buf;
-  for (const ResidualProfile& p : r.baseline_diagnostics.profiles) {
-    d << "  residual against " << p.variable << ":";
-    for (size_t b = 0; b < p.bin.size(); ++b) {
-      std::snprintf(buf, sizeof buf, " %s %+.3f N (%d)", p.bin[b].c_str(), p.mean_residual_N[b], p.count[b]);
-      d << buf;
-    }
-    d << "\n";
-  }
-  if (r.effects.empty()) {
-    std::snprintf(buf, sizeof buf, "No candidate pays for itself (held-out error -%.0f %% and BIC %.0f): ",
-                  (o.min_heldout_ratio - 1) * 100, o.max_delta_bic);
-    d << buf
-      << (r.unexplained ? "structure remains that no candidate explains (unexplained).\n"
-                        : "the paper's model explains the recording to the noise.\n");
-  } else {
-    d << "Named cause(s):";
-    for (const std::string& e : r.effects) {
-      const auto pu = organEffectParameter(e);
-      std::snprintf(buf, sizeof buf, " %s (%s = %.4g %s)", e.c_str(), pu.first.c_str(),
-                    organEffectValue(r.extended.params, e), pu.second.c_str());
-      d << buf;
-    }
-    std::snprintf(buf, sizeof buf, ". Extended model: RMSE %.3f N, held out %.3f N; held-out gain %.2fx.%s\n",
-                  r.extended.rmse_N, r.extended.heldout_rmse_N, r.heldout_rmse_ratio,
-                  r.unexplained ? " Structure remains (unexplained)." : "");
-    d << buf;
-  }
-  if (r.skipped_round > 0) {
-    std::snprintf(buf, sizeof buf,
-                  "Round %d not run: the held-out RMSE %.3f N is within %.0f %% of the white-noise level %.3f N, so "
-                  "no further effect could pay.\n",
-                  r.skipped_round, r.extended.heldout_rmse_N, (o.min_heldout_ratio - 1) * 100, r.skipped_noise_sd_N);
-    d << buf;
-  }
-  std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
-                r.search_spacing_m, r.seconds);
-  d << buf;
-  r.diagnosis = d.str();
+  r.diagnosis = diagnosisText(r, o);
   return r;
 }
 

@@ -485,6 +485,50 @@ FittedModel linearStart(const Data& d) {
   return s;
 }
 
+// The diagnosis, for people: the baseline and where it fails, every candidate's evidence,
+// the cause, the extended law and the gain, the remaining structure.
+std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
+  const Diagnostics& ed = r.extended_diagnostics;
+  const Diagnostics& bd = r.baseline_diagnostics;
+  std::string s = "Baseline: the paper's Voigt law (eq. 6), F = EA e + EC de/dt, fitted with Ceres: " +
+                  fmt("EA = %.3g N, EC = %.3g N s, offset %.3g N.\n", r.baseline.law.ea_N, r.baseline.law.ec_Ns,
+                      r.baseline.offset_N);
+  s += fmt("  RMSE %.4f N (held-out %.4f N) against a white-noise level of %.4f N.\n", r.baseline.rmse_N,
+           r.baseline.heldout_rmse_N, bd.noise_sd_N);
+  s += "  Where it fails (RMS of the binned mean residual):";
+  for (const ResidualProfile& p : bd.profiles) s += " " + p.variable + fmt(" %.4f N;", p.structure_N);
+  s += "\n";
+  int round = 0;
+  for (const CandidateEvidence& e : r.evidence) {
+    if (e.round != round) {
+      round = e.round;
+      if (round == 3)
+        s += "Exchange: candidates replacing the first effect, added to " + e.model.front() + "\n";
+      else
+        s += fmt("Round %.0f: candidates added to ", round) +
+             join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
+    }
+    s += "  " + e.effect + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
+         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
+  }
+  if (r.effects.empty()) {
+    s += "Cause: none needed. No candidate pays for itself (held-out error cut by " +
+         fmt("%.0f %% and BIC lowered by %.0f): ", 100 * (o.min_heldout_ratio - 1), -o.max_delta_bic) +
+         "the Voigt law explains the data to the noise.\n";
+  } else {
+    s += "Cause: " + join(r.effects) + ".\n";
+    s += "Extended law:";
+    for (const ParamEstimate& p : r.extended.params) s += " " + p.name + fmt(" = %.4g +- %.2g", p.value, p.sd) + " " + p.unit + ";";
+    s += "\n" + fmt("Gain: held-out RMSE %.4f N -> %.4f N, ratio %.2f.\n", r.baseline.heldout_rmse_N,
+                    r.extended.heldout_rmse_N, r.heldout_rmse_ratio);
+  }
+  s += fmt("Remaining structure: RMSE %.4f N = %.2f x the white-noise level", ed.rmse_N, ed.rmse_N / std::max(1e-12, ed.noise_sd_N)) +
+       fmt(" (lag-1 autocorrelation %.2f); ", ed.lag1_autocorrelation) +
+       (r.unexplained ? "UNEXPLAINED: structure remains that no candidate effect explains.\n"
+                      : "explained to the noise.\n");
+  return s;
+}
+
 }  // namespace
 
 IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o) {
@@ -568,48 +612,9 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   r.heldout_rmse_ratio = r.baseline.heldout_rmse_N / r.extended.heldout_rmse_N;
   r.baseline_diagnostics = diagnose(d, r, r.baseline);
   r.extended_diagnostics = diagnose(d, r, r.extended);
-  const Diagnostics& ed = r.extended_diagnostics;
-  r.unexplained = isUnexplained(ed, o);
+  r.unexplained = isUnexplained(r.extended_diagnostics, o);
 
-  // The diagnosis, for people.
-  const Diagnostics& bd = r.baseline_diagnostics;
-  std::string s = "Baseline: the paper's Voigt law (eq. 6), F = EA e + EC de/dt, fitted with Ceres: " +
-                  fmt("EA = %.3g N, EC = %.3g N s, offset %.3g N.\n", r.baseline.law.ea_N, r.baseline.law.ec_Ns,
-                      r.baseline.offset_N);
-  s += fmt("  RMSE %.4f N (held-out %.4f N) against a white-noise level of %.4f N.\n", r.baseline.rmse_N,
-           r.baseline.heldout_rmse_N, bd.noise_sd_N);
-  s += "  Where it fails (RMS of the binned mean residual):";
-  for (const ResidualProfile& p : bd.profiles) s += " " + p.variable + fmt(" %.4f N;", p.structure_N);
-  s += "\n";
-  int round = 0;
-  for (const CandidateEvidence& e : r.evidence) {
-    if (e.round != round) {
-      round = e.round;
-      if (round == 3)
-        s += "Exchange: candidates replacing the first effect, added to " + e.model.front() + "\n";
-      else
-        s += fmt("Round %.0f: candidates added to ", round) +
-             join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
-    }
-    s += "  " + e.effect + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
-         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
-  }
-  if (r.effects.empty()) {
-    s += "Cause: none needed. No candidate pays for itself (held-out error cut by " +
-         fmt("%.0f %% and BIC lowered by %.0f): ", 100 * (o.min_heldout_ratio - 1), -o.max_delta_bic) +
-         "the Voigt law explains the data to the noise.\n";
-  } else {
-    s += "Cause: " + join(r.effects) + ".\n";
-    s += "Extended law:";
-    for (const ParamEstimate& p : r.extended.params) s += " " + p.name + fmt(" = %.4g +- %.2g", p.value, p.sd) + " " + p.unit + ";";
-    s += "\n" + fmt("Gain: held-out RMSE %.4f N -> %.4f N, ratio %.2f.\n", r.baseline.heldout_rmse_N,
-                    r.extended.heldout_rmse_N, r.heldout_rmse_ratio);
-  }
-  s += fmt("Remaining structure: RMSE %.4f N = %.2f x the white-noise level", ed.rmse_N, ed.rmse_N / std::max(1e-12, ed.noise_sd_N)) +
-       fmt(" (lag-1 autocorrelation %.2f); ", ed.lag1_autocorrelation) +
-       (r.unexplained ? "UNEXPLAINED: structure remains that no candidate effect explains.\n"
-                      : "explained to the noise.\n");
-  r.diagnosis = s;
+  r.diagnosis = diagnosisText(r, o);
   return r;
 }
 

@@ -2,6 +2,8 @@
 #include "identify/tension/forward.h"
 
 #include <cmath>
+#include <functional>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -12,6 +14,35 @@
 namespace colosim {
 namespace {
 
+// A colon of two control points l0 [m] apart, on the x axis, with `law` as its tension
+// element and the given mass per length [kg/m].
+ColonModel twoPointColon(double l0, double mass_per_length_kg_per_m, std::shared_ptr<const TensionLaw> law) {
+  Points q(3, 2);
+  q.col(0) = Vec3::Zero();
+  q.col(1) = Vec3(l0, 0, 0);
+  return buildColonModelFromPoints(q, Eigen::VectorXd::Constant(2, 0.02), mass_per_length_kg_per_m, 0, 0,
+                                   Vec3::Zero(), std::move(law));
+}
+
+// A tension test of `rows` samples dt [s] apart with the elongation elongation_m(time) [m],
+// and the fitter's force of `law` along it [N].
+TensionTest historyOf(double l0, double dt, int rows, const std::function<double(double)>& elongation_m) {
+  TensionTest t;
+  t.sample_length_m = l0;
+  for (int k = 0; k < rows; ++k) {
+    t.time_s.push_back(k * dt);
+    t.elongation_m.push_back(elongation_m(k * dt));
+    t.force_N.push_back(0);
+  }
+  return t;
+}
+std::vector<double> fitterForce(const TensionLaw& law, const TensionTest& t) {
+  std::vector<double> strain, rate, force;
+  tensionStrainHistory(t, &strain, &rate);
+  simulateLawForce(law, t.time_s, strain, rate, &force);
+  return force;
+}
+
 TEST(Forward, VoigtLawInTheFitterAndInTheColonGiveTheSameForce) {
   // One elongation history, two drivers: the fitter's forward model, and a 2-control-point
   // colon whose end point is moved through the same positions (with the backward-Euler
@@ -19,23 +50,11 @@ TEST(Forward, VoigtLawInTheFitterAndInTheColonGiveTheSameForce) {
   // its tension element at the start of the step.
   const double l0 = 0.18, dt = 1e-3;
   auto law = std::make_shared<VoigtLaw>(28.9, 0.05);
-  Points q(3, 2);
-  q.col(0) = Vec3::Zero();
-  q.col(1) = Vec3(l0, 0, 0);
-  const ColonModel m = buildColonModelFromPoints(q, Eigen::VectorXd::Constant(2, 0.02), 0.4, 0, 0, Vec3::Zero(), law);
+  const ColonModel m = twoPointColon(l0, 0.4, law);
   ColonState s = makeColonState(m);
-
-  TensionTest t;
-  t.sample_length_m = l0;
-  for (int k = 0; k < 3000; ++k) {
-    const double time = k * dt;
-    t.time_s.push_back(time);
-    t.elongation_m.push_back(0.05 * std::sin(2.0 * time) + 0.02 * time);
-    t.force_N.push_back(0);
-  }
-  std::vector<double> strain, rate, fitter;
-  tensionStrainHistory(t, &strain, &rate);
-  simulateLawForce(*law, t.time_s, strain, rate, &fitter);
+  const TensionTest t =
+      historyOf(l0, dt, 3000, [](double time) { return 0.05 * std::sin(2.0 * time) + 0.02 * time; });
+  const std::vector<double> fitter = fitterForce(*law, t);
   double max_diff = 0, max_force = 0;
   for (size_t k = 0; k < t.rows(); ++k) {
     s.q.col(0) = Vec3::Zero();
@@ -62,22 +81,11 @@ TEST(Forward, ExtendedLawInTheFitterAndInTheColonGiveTheSameForce) {
   p.ea_N = 8, p.ec_Ns = 0.0, p.fung_b = 2.5, p.relax_g1 = 0.4, p.relax_tau1_s = 0.5;
   p.soften_d_inf = 0.3, p.soften_a_c = 0.5, p.set_ratio = 0.1;
   auto law = std::make_shared<ExtendedTensionLaw>(p);
-  Points q(3, 2);
-  q.col(0) = Vec3::Zero();
-  q.col(1) = Vec3(l0, 0, 0);
-  const ColonModel m = buildColonModelFromPoints(q, Eigen::VectorXd::Constant(2, 0.02), 1e9, 0, 0, Vec3::Zero(), law);
+  const ColonModel m = twoPointColon(l0, 1e9, law);
   ColonState s = makeColonState(m);
-  TensionTest t;
-  t.sample_length_m = l0;
-  for (int k = 0; k < 4001; ++k) {
-    const double time = k * dt;
-    t.time_s.push_back(time);
-    t.elongation_m.push_back(0.06 * std::sin(3.0 * time) * std::sin(3.0 * time));
-    t.force_N.push_back(0);
-  }
-  std::vector<double> strain, rate, fitter;
-  tensionStrainHistory(t, &strain, &rate);
-  simulateLawForce(*law, t.time_s, strain, rate, &fitter);
+  const TensionTest t =
+      historyOf(l0, dt, 4001, [](double time) { return 0.06 * std::sin(3.0 * time) * std::sin(3.0 * time); });
+  const std::vector<double> fitter = fitterForce(*law, t);
   double max_diff = 0, max_force = 0;
   for (size_t k = 0; k + 1 < t.rows(); ++k) {
     if (k == 0) s.q.col(1) = Vec3(l0 + t.elongation_m[0], 0, 0);
