@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "bench/registry.h"
-#include "core/identify/identify.h"
-#include "core/identify/synthetic.h"
+#include "identify/tension/identify.h"
+#include "identify/tension/synthetic.h"
 
 namespace colosim {
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "core/identify/synthetic.h"
+#include "identify/tension/synthetic.h"
 
 int main(int argc, char** argv) {
   if (argc != 2) {

@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "organ/synthetic_insertion.h"
+#include "identify/insertion/synthetic.h"
 
 int main(int argc, char** argv) {
   using namespace colosim;

@@ -12,7 +12,7 @@
 #include "core/colon_step.h"
 #include "core/rotation.h"
 #include "core/scope_step.h"
-#include "organ/replay.h"
+#include "identify/insertion/replay.h"
 #include "trainer/world_simulation.h"
 
 using namespace colosim;

@@ -1,4 +1,4 @@
-// One case of the hidden-effect test (tests/organ/identify_insertion_test.cc) for any seed:
+// One case of the hidden-effect test (tests/identify/insertion/identify_test.cc) for any seed:
 //   organ_hidden_identify EFFECT|none DURATION_S SEED [CYCLES|hHOLDS]
 // draws the recording as the test draws it (magnitude, protocol and noise from the seed;
 // hHOLDS, e.g. h2: the push-and-hold staircase of that many stages), identifies it and
@@ -8,8 +8,8 @@
 #include <ctime>
 #include <string>
 
-#include "organ/identify_insertion.h"
-#include "organ/synthetic_insertion.h"
+#include "identify/insertion/identify.h"
+#include "identify/insertion/synthetic.h"
 
 int main(int argc, char** argv) {
   using namespace colosim;
@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
   const ReplaySetup setup = makeReplaySetup(findScenario(spec.scenario), 0.03);
   const std::clock_t c0 = std::clock();
   const InsertionRecording rec = makeSyntheticInsertion(setup, spec);
-  const OrganIdentifyResult r = identifyInsertion(rec, setup);
+  const InsertionIdentifyResult r = identifyInsertion(rec, setup);
   const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
   std::string found;
   for (const std::string& e : r.effects) found += (found.empty() ? "" : " + ") + e;
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   if (!r.effects.empty()) std::printf(" %.4g", organEffectValue(r.extended.params, r.effects.front()));
   std::printf(", held-out gain %.3f, %s%d simulations, %.1f s wall, %.1f s CPU\n", r.heldout_rmse_ratio,
               r.unexplained ? "unexplained, " : "", r.simulations, r.seconds, cpu);
-  for (const OrganEvidence& e : r.evidence)
+  for (const CandidateEvidence& e : r.evidence)
     std::printf("  round %d %-22s value %-9.4g held-out ratio %.3f dBIC %+.1f%s%s\n", e.round, e.effect.c_str(), e.value,
                 e.heldout_ratio, e.delta_bic, e.pays ? " pays" : "", e.chosen ? " CHOSEN" : "");
   std::printf("%s", r.diagnosis.c_str());

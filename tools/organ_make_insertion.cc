@@ -1,4 +1,4 @@
-// Writes a synthetic insertion recording (organ/synthetic_insertion.h):
+// Writes a synthetic insertion recording (identify/insertion/synthetic.h):
 //   organ_make_insertion OUT.csv EFFECT VALUE DURATION_S SEED [CYCLES|hHOLDS [AMPLITUDE_M START_M]]
 // EFFECT "none" hides nothing; VALUE "drawn" draws it (and the protocol) as the tests do. CYCLES > 0: insert / withdraw cycles (amplitude and start depth
 // drawn from the seed unless given); hHOLDS (e.g. h2): that many push-and-hold stages (AMPLITUDE_M: the step). Made at the identification's search resolution (0.03 m).
@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "organ/synthetic_insertion.h"
+#include "identify/insertion/synthetic.h"
 
 int main(int argc, char** argv) {
   using namespace colosim;

@@ -25,7 +25,7 @@ class WorldSimulation : public Simulation {
   explicit WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law = nullptr,
                            const std::string& query_mode = "fcl");
   /// The same with the parameters given instead of scenarioParameters(scenario) (e.g. the
-  /// model an identification fitted, organ/replay.h organParameters).
+  /// model an identification fitted, identify/insertion/replay.h organParameters).
   WorldSimulation(const Scenario& scenario, const Parameters& params, std::shared_ptr<const TensionLaw> law = nullptr,
                   const std::string& query_mode = "fcl");
   /// The same from a world model built elsewhere (tests, identification).

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "core/extended_tension_law.h"
-#include "core/identify/measurement.h"
 #include "core/world.h"
+#include "identify/tension/tension_test.h"
 #include "trainer/assets.h"
 #include "trainer/handle_io.h"
 #include "trainer/scenario.h"

@@ -1,6 +1,7 @@
-// The measurement reader (core/identify/measurement.h): every bad file is an InputError
+// The measurement reader (identify/measurement.h): every bad file is an InputError
 // naming the file and line.
-#include "core/identify/measurement.h"
+#include "identify/measurement.h"
+#include "identify/tension/tension_test.h"
 
 #include <gtest/gtest.h>
 

@@ -1,14 +1,14 @@
 // colosim identify DATA.csv [--json] [--report DIR] [--law-out FILE]: fits the paper's
 // Voigt law to a measured tension test, names the effects it misses, extends the law and
-// measures the gain (core/identify/identify.h; docs/identification.md).
+// measures the gain (identify/tension/identify.h; docs/identification.md).
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
-#include "core/identify/identify.h"
-#include "core/identify/report.h"
-#include "organ/identify_insertion.h"
-#include "organ/report.h"
+#include "identify/tension/identify.h"
+#include "identify/tension/report.h"
+#include "identify/insertion/identify.h"
+#include "identify/insertion/report.h"
 #include "trainer/app/commands.h"
 #include "trainer/tension_law_file.h"
 
@@ -24,13 +24,13 @@ struct IdentifyOptionsCli {
 };
 
 // A recorded insertion (# experiment: insertion): identification at the organ level
-// (organ/identify_insertion.h; docs/organ-identification.md).
+// (identify/insertion/identify.h; docs/organ-identification.md).
 int runIdentifyInsertion(const IdentifyOptionsCli& o) {
   const InsertionRecording rec = readInsertionRecording(o.data);
   const Scenario scenario = findScenario(rec.scenario);
   const ReplaySetup setup = makeReplaySetup(scenario);
-  OrganIdentifyOptions opt;
-  const OrganIdentifyResult r = identifyInsertion(rec, setup, opt);
+  InsertionIdentifyOptions opt;
+  const InsertionIdentifyResult r = identifyInsertion(rec, setup, opt);
   const nlohmann::json j = organIdentifyJson(rec, r);
   if (!o.law_out.empty())
     writeOrganParameters(o.law_out, scenario.params_path, r.extended, "colosim identify " + o.data);

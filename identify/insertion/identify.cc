@@ -1,0 +1,482 @@
+#include "identify/insertion/identify.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "identify/report.h"
+#include "trainer/tension_law_file.h"
+
+namespace colosim {
+
+namespace {
+
+// Grids of each candidate's magnitude (log-spaced over a physiological range); the search
+// refines around the best value by geometric midpoints.
+std::vector<double> grid(const std::string& e) {
+  if (e == "wall_friction") return {0.05, 0.1, 0.2, 0.4};
+  if (e == "colon_bending") return {0.003, 0.01, 0.03, 0.1};
+  if (e == "mesentery_stiffening") return {300, 1000, 3000, 10000};
+  if (e == "strain_stiffening") return {1.0, 2.5, 5.0, 10.0};
+  if (e == "stress_relaxation") return {0.1, 0.25, 0.45, 0.7};
+  if (e == "cyclic_softening") return {0.05, 0.12, 0.25, 0.5};
+  if (e == "permanent_set") return {0.05, 0.12, 0.25, 0.5};
+  throw std::invalid_argument("unknown organ effect '" + e + "'");
+}
+double upperBound(const std::string& e) {
+  if (e == "wall_friction") return 1.0;
+  if (e == "colon_bending") return 1.0;
+  if (e == "mesentery_stiffening") return 1e5;
+  if (e == "strain_stiffening") return 20.0;
+  if (e == "permanent_set") return 0.9;
+  return 0.95;  // relax_g1, soften_d_inf < 1
+}
+
+// Runs the replays of several extension sets on `threads` threads.
+std::vector<Prediction> replayAll(const ReplaySetup& setup, const InsertionRecording& rec,
+                                  const std::vector<OrganParams>& jobs, int threads) {
+  std::vector<Prediction> out(jobs.size());
+  runInParallel(jobs.size(), threads, [&](size_t i) { out[i] = replayInsertion(setup, rec, jobs[i]); });
+  return out;
+}
+
+// Offset fitted on the rows in `mask` (mean residual) and the SSE there.
+struct Scored {
+  double offset = 0, sse = 0;
+  int n = 0;
+};
+Scored score(const std::vector<double>& meas, const std::vector<double>& pred, const std::vector<char>& mask) {
+  Scored s;
+  double sum = 0;
+  for (size_t k = 0; k < meas.size(); ++k)
+    if (mask[k]) sum += meas[k] - pred[k], ++s.n;
+  s.offset = s.n ? sum / s.n : 0;
+  for (size_t k = 0; k < meas.size(); ++k)
+    if (mask[k]) s.sse += std::pow(meas[k] - pred[k] - s.offset, 2);
+  return s;
+}
+double sseWithOffset(const std::vector<double>& meas, const std::vector<double>& pred, const std::vector<char>& mask,
+                     double offset) {
+  double e = 0;
+  for (size_t k = 0; k < meas.size(); ++k)
+    if (mask[k]) e += std::pow(meas[k] - pred[k] - offset, 2);
+  return e;
+}
+
+// A model evaluated at several values of one magnitude: the full fit is the best value on
+// every row; blocked cross-validation picks, for each fold, the best value (and offset) on
+// the other folds and scores it on the fold. The evaluated set is the same simulations.
+struct Evaluated {
+  std::vector<double> value;
+  std::vector<Prediction> pred;
+};
+struct CvResult {
+  int best = 0;
+  double sse = 0, heldout_sse = 0;
+  int n = 0;
+};
+CvResult crossValidate(const InsertionRecording& rec, const Evaluated& ev, const std::vector<int>& fold, int folds) {
+  const size_t n = rec.rows();
+  CvResult r;
+  std::vector<char> all(n, 1);
+  double best = 1e300;
+  for (size_t i = 0; i < ev.pred.size(); ++i) {
+    if (!ev.pred[i].ok) continue;
+    const double sse = score(rec.force_N, ev.pred[i].force_N, all).sse;
+    if (sse < best) best = sse, r.best = static_cast<int>(i);
+  }
+  r.sse = best;
+  r.n = static_cast<int>(n);
+  for (int f = 0; f < folds; ++f) {
+    std::vector<char> train(n), test(n);
+    for (size_t k = 0; k < n; ++k) train[k] = fold[k] != f, test[k] = fold[k] == f;
+    double bt = 1e300;
+    int bi = 0;
+    double off = 0;
+    for (size_t i = 0; i < ev.pred.size(); ++i) {
+      if (!ev.pred[i].ok) continue;
+      const Scored s = score(rec.force_N, ev.pred[i].force_N, train);
+      if (s.sse < bt) bt = s.sse, bi = static_cast<int>(i), off = s.offset;
+    }
+    r.heldout_sse += sseWithOffset(rec.force_N, ev.pred[bi].force_N, test, off);
+  }
+  return r;
+}
+
+Diagnostics diagnose(const InsertionRecording& rec, const InsertionFit& fit) {
+  const size_t n = rec.rows();
+  std::vector<double> res(n);
+  for (size_t k = 0; k < n; ++k) res[k] = rec.force_N[k] - fit.prediction.force_N[k] - fit.offset_N;
+  Diagnostics d = diagnoseResidual(fit.rmse_N, res);
+  std::vector<int> bin(n);
+  auto profile = [&](const std::string& var, const std::vector<std::string>& labels) {
+    d.profiles.push_back(residualProfile(var, res, bin, static_cast<int>(labels.size())));
+    d.profiles.back().bin = labels;
+  };
+  // Push against pull: the sign of the insertion speed (+-2 mm/s) by central differences.
+  for (size_t k = 0; k < n; ++k) bin[k] = insertionMotion(rec, k);
+  profile("motion", {"push", "hold", "pull"});
+  for (size_t k = 0; k < n; ++k) bin[k] = fit.prediction.loop_turns[k] > 0.3 ? 1 : 0;
+  profile("loop", {"no_loop", "in_loop"});
+  double lo = 1e9, hi = -1e9;
+  for (const HandleInput& in : rec.input) lo = std::min(lo, in.insertion_m), hi = std::max(hi, in.insertion_m);
+  std::vector<std::string> names;
+  const int nb = 5;
+  for (int b = 0; b < nb; ++b) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3f-%.3f m", lo + (hi - lo) * b / nb, lo + (hi - lo) * (b + 1) / nb);
+    names.push_back(buf);
+  }
+  for (size_t k = 0; k < n; ++k)
+    bin[k] = hi > lo ? std::clamp(static_cast<int>((rec.input[k].insertion_m - lo) / (hi - lo) * nb), 0, nb - 1) : 0;
+  profile("insertion_depth", names);
+  return d;
+}
+
+// Geometric midpoints between the best evaluated magnitude (full-fit SSE, > 0) and its
+// neighbours among the evaluated ones (beyond the largest: x 1.3, up to `upper`).
+std::vector<double> bracketMidpoints(const InsertionRecording& rec, const Evaluated& ev, double upper) {
+  const std::vector<char> all(rec.rows(), 1);
+  std::vector<std::pair<double, double>> pts;  // (value, SSE)
+  for (size_t i = 0; i < ev.value.size(); ++i)
+    if (ev.pred[i].ok) pts.push_back({ev.value[i], score(rec.force_N, ev.pred[i].force_N, all).sse});
+  std::sort(pts.begin(), pts.end());
+  size_t b = 0;
+  for (size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].second < pts[b].second) b = i;
+  const double v = pts[b].first;
+  if (!(v > 0)) return {};
+  std::vector<double> out;
+  if (b > 0) out.push_back(pts[b - 1].first > 0 ? std::sqrt(pts[b - 1].first * v) : v / 1.3);
+  out.push_back(b + 1 < pts.size() ? std::sqrt(pts[b + 1].first * v) : std::min(upper, v * 1.3));
+  return out;
+}
+
+// The magnitude at the vertex of the parabola through the full-fit SSE at the best
+// evaluated value and its two neighbours (in log magnitude, all three > 0); 0 when the best
+// is at the edge, the parabola is not convex or the vertex is the best value already.
+double parabolaVertex(const InsertionRecording& rec, const Evaluated& ev) {
+  const std::vector<char> all(rec.rows(), 1);
+  std::vector<std::pair<double, double>> pts;  // (log value, SSE)
+  for (size_t i = 0; i < ev.value.size(); ++i)
+    if (ev.value[i] > 0 && ev.pred[i].ok)
+      pts.push_back({std::log(ev.value[i]), score(rec.force_N, ev.pred[i].force_N, all).sse});
+  std::sort(pts.begin(), pts.end());
+  size_t b = 0;
+  for (size_t i = 1; i < pts.size(); ++i)
+    if (pts[i].second < pts[b].second) b = i;
+  if (b == 0 || b + 1 >= pts.size()) return 0;
+  const double x0 = pts[b - 1].first, x1 = pts[b].first, x2 = pts[b + 1].first;
+  const double y0 = pts[b - 1].second, y1 = pts[b].second, y2 = pts[b + 1].second;
+  const double den = (x1 - x0) * (y1 - y2) - (x1 - x2) * (y1 - y0);
+  if (!(den < 0)) return 0;  // the vertex is a minimum only for this sign (y1 below both)
+  const double num = (x1 - x0) * (x1 - x0) * (y1 - y2) - (x1 - x2) * (x1 - x2) * (y1 - y0);
+  const double x = std::clamp(x1 - 0.5 * num / den, x0, x2);
+  if (std::abs(x - x1) < 1e-3) return 0;
+  return std::exp(x);
+}
+
+// The diagnosis, for people: the paper's model and where it fails, the named causes and
+// the gain, a round not run, the cost.
+std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdentifyOptions& o) {
+  std::ostringstream d;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "Paper's model (no wall friction, no colon bending, linear lifters, Voigt tension): handle force "
+                "RMSE %.3f N (held out %.3f N), %.1f times the noise (%.3f N).\n",
+                r.baseline.rmse_N, r.baseline.heldout_rmse_N, r.baseline_diagnostics.rmse_over_noise,
+                r.baseline_diagnostics.noise_sd_N);
+  d << buf;
+  for (const ResidualProfile& p : r.baseline_diagnostics.profiles) {
+    d << "  residual against " << p.variable << ":";
+    for (size_t b = 0; b < p.bin.size(); ++b) {
+      std::snprintf(buf, sizeof buf, " %s %+.3f N (%d)", p.bin[b].c_str(), p.mean_residual_N[b], p.count[b]);
+      d << buf;
+    }
+    d << "\n";
+  }
+  if (r.effects.empty()) {
+    std::snprintf(buf, sizeof buf, "No candidate pays for itself (held-out error -%.0f %% and BIC %.0f): ",
+                  (o.min_heldout_ratio - 1) * 100, o.max_delta_bic);
+    d << buf
+      << (r.unexplained ? "structure remains that no candidate explains (unexplained).\n"
+                        : "the paper's model explains the recording to the noise.\n");
+  } else {
+    d << "Named cause(s):";
+    for (const std::string& e : r.effects) {
+      const auto pu = organEffectParameter(e);
+      std::snprintf(buf, sizeof buf, " %s (%s = %.4g %s)", e.c_str(), pu.first.c_str(),
+                    organEffectValue(r.extended.params, e), pu.second.c_str());
+      d << buf;
+    }
+    std::snprintf(buf, sizeof buf, ". Extended model: RMSE %.3f N, held out %.3f N; held-out gain %.2fx.%s\n",
+                  r.extended.rmse_N, r.extended.heldout_rmse_N, r.heldout_rmse_ratio,
+                  r.unexplained ? " Structure remains (unexplained)." : "");
+    d << buf;
+  }
+  if (r.skipped_round > 0) {
+    std::snprintf(buf, sizeof buf,
+                  "Round %d not run: the held-out RMSE %.3f N is within %.0f %% of the white-noise level %.3f N, so "
+                  "no further effect could pay.\n",
+                  r.skipped_round, r.extended.heldout_rmse_N, (o.min_heldout_ratio - 1) * 100, r.skipped_noise_sd_N);
+    d << buf;
+  }
+  std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
+                r.search_spacing_m, r.seconds);
+  d << buf;
+  return d.str();
+}
+
+}  // namespace
+
+int insertionMotion(const InsertionRecording& rec, size_t k) {
+  const size_t n = rec.rows();
+  const size_t a = k ? k - 1 : k, b = k + 1 < n ? k + 1 : k;
+  if (b == a) return 1;
+  const double v = (rec.input[b].insertion_m - rec.input[a].insertion_m) / (rec.time_s[b] - rec.time_s[a]);
+  return v > 0.002 ? 0 : (v < -0.002 ? 2 : 1);
+}
+
+InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const ReplaySetup& full_setup,
+                                          const InsertionIdentifyOptions& o) {
+  const auto clock0 = std::chrono::steady_clock::now();
+  InsertionIdentifyResult r;
+  ReplaySetup setup = full_setup;
+  if (o.search_spacing_m > 0) {
+    setup.params.colon.control_point_spacing_m = o.search_spacing_m;
+    setup.params.scope.segment_length_m = o.search_spacing_m;
+  }
+  r.search_spacing_m = setup.params.colon.control_point_spacing_m;
+  r.threads = std::max(1, o.threads);
+  const size_t n = rec.rows();
+  const int N = static_cast<int>(n);
+  // Folds: contiguous thirds of the recording in time.
+  std::vector<int> fold(n);
+  const double t0 = rec.time_s.front(), t1 = rec.time_s.back();
+  for (size_t k = 0; k < n; ++k)
+    fold[k] = std::min(o.folds - 1, static_cast<int>((rec.time_s[k] - t0) / (t1 - t0) * o.folds));
+
+  auto makeFit = [&](const std::vector<std::string>& effects, const OrganParams& p, const Prediction& pred,
+                     double heldout_sse) {
+    InsertionFit f;
+    f.effects = effects;
+    f.params = p;
+    f.prediction = pred;
+    const std::vector<char> all(n, 1);
+    const Scored sf = score(rec.force_N, pred.force_N, all);
+    const Scored st = score(rec.torque_Nm, pred.torque_Nm, all);
+    f.offset_N = sf.offset;
+    f.offset_Nm = st.offset;
+    f.rmse_Nm = std::sqrt(st.sse / N);
+    f.heldout_rmse_N = std::sqrt(heldout_sse / N);
+    f.n_params = 1 + static_cast<int>(effects.size());  // force offset + one magnitude per effect
+    scoreFit(sf.sse, N, &f);
+    if (rec.has_tip) {
+      double e = 0;
+      for (size_t k = 0; k < n; ++k) e += (rec.tip_m[k] - pred.tip_m[k]).squaredNorm();
+      f.tip_rmse_m = std::sqrt(e / N);
+    }
+    return f;
+  };
+
+  // The paper's model (its replay runs in the first batch of round 1, beside the grid).
+  OrganParams current;
+  std::vector<std::string> chosen;
+  InsertionFit model;
+
+  for (int round = 1; round <= o.max_effects; ++round) {
+    if (round > 1) {
+      // Explained to the noise: no model can pay, and the round's replays are saved.
+      const double noise = diagnose(rec, model).noise_sd_N;
+      if (noCandidateCanPay(model.heldout_rmse_N, noise, o)) {
+        r.skipped_round = round;
+        r.skipped_noise_sd_N = noise;
+        break;
+      }
+    }
+    std::vector<std::string> cands;
+    for (const std::string& e : organEffectNames())
+      if (std::find(chosen.begin(), chosen.end(), e) == chosen.end()) cands.push_back(e);
+    // Every candidate's evaluated set starts with the current model (magnitude 0).
+    std::vector<Evaluated> ev(cands.size());
+    auto run = [&](const std::vector<std::vector<double>>& values, bool with_current) {
+      std::vector<OrganParams> jobs;
+      std::vector<std::pair<size_t, double>> who;
+      if (with_current) jobs.push_back(current);
+      for (size_t c = 0; c < cands.size(); ++c)
+        for (double v : values[c]) {
+          OrganParams p = current;
+          setOrganEffect(p, cands[c], v);
+          jobs.push_back(p);
+          who.push_back({c, v});
+        }
+      const std::vector<Prediction> preds = replayAll(setup, rec, jobs, o.threads);
+      r.simulations += static_cast<int>(jobs.size());
+      const size_t first = with_current ? 1 : 0;
+      if (with_current) {
+        const Evaluated base_ev{{0.0}, {preds[0]}};
+        r.baseline = makeFit({}, current, preds[0], crossValidate(rec, base_ev, fold, o.folds).heldout_sse);
+        model = r.baseline;
+        for (size_t c = 0; c < cands.size(); ++c) ev[c] = {{0.0}, {model.prediction}};
+      }
+      for (size_t j = first; j < jobs.size(); ++j) {
+        ev[who[j - first].first].value.push_back(who[j - first].second);
+        ev[who[j - first].first].pred.push_back(preds[j]);
+      }
+    };
+    if (round > 1)
+      for (size_t c = 0; c < cands.size(); ++c) ev[c] = {{0.0}, {model.prediction}};
+    std::vector<std::vector<double>> values(cands.size());
+    for (size_t c = 0; c < cands.size(); ++c) values[c] = grid(cands[c]);
+    run(values, round == 1);
+    // Two refinements: geometric midpoints between the best value and its neighbours.
+    for (int stage = 0; stage < 2; ++stage) {
+      for (size_t c = 0; c < cands.size(); ++c) {
+        values[c].clear();
+        const CvResult cv = crossValidate(rec, ev[c], fold, o.folds);
+        std::vector<double> sorted = ev[c].value;
+        std::sort(sorted.begin(), sorted.end());
+        const double best = ev[c].value[cv.best];
+        const size_t i = std::find(sorted.begin(), sorted.end(), best) - sorted.begin();
+        if (best == 0) {
+          values[c].push_back(sorted[1] / 3.0);
+        } else {
+          values[c].push_back(i > 1 ? std::sqrt(sorted[i - 1] * best) : best / 1.7);
+          values[c].push_back(i + 1 < sorted.size() ? std::sqrt(sorted[i + 1] * best)
+                                                    : std::min(upperBound(cands[c]), best * 1.7));
+        }
+      }
+      run(values, false);
+    }
+    // Focus: the leading candidate that would pay (and any within 20 % of its held-out ratio)
+    // gets two more bracket-halving stages and then one replay at the vertex of the parabola
+    // through its SSE around the best value (in log magnitude). The grid leaves a magnitude
+    // within a factor ~1.3, which on a long recording is still structure far above the noise.
+    {
+      std::vector<std::pair<double, size_t>> paying;
+      for (size_t c = 0; c < cands.size(); ++c) {
+        const CvResult cv = crossValidate(rec, ev[c], fold, o.folds);
+        const double ratio = model.heldout_rmse_N / std::max(std::sqrt(cv.heldout_sse / N), 1e-300);
+        if (ratio >= o.min_heldout_ratio && ev[c].value[cv.best] > 0) paying.push_back({ratio, c});
+      }
+      std::sort(paying.rbegin(), paying.rend());
+      std::vector<size_t> focus;
+      for (const auto& pc : paying)
+        if (pc.first >= paying.front().first / 1.2) focus.push_back(pc.second);
+      for (int stage = 0; stage < 3 && !focus.empty(); ++stage) {
+        std::vector<std::vector<double>> more(cands.size());
+        for (size_t c : focus) {
+          if (stage < 2) {
+            more[c] = bracketMidpoints(rec, ev[c], upperBound(cands[c]));
+          } else {
+            const double v = parabolaVertex(rec, ev[c]);
+            if (v > 0) more[c].push_back(v);
+          }
+        }
+        run(more, false);
+      }
+    }
+    // Score each candidate at its best magnitude (one more parameter than the current model;
+    // a best magnitude of 0 is the current model, not a candidate).
+    std::vector<CvResult> cvs(cands.size());
+    std::vector<Candidate> scored(cands.size());
+    for (size_t c = 0; c < cands.size(); ++c) {
+      cvs[c] = crossValidate(rec, ev[c], fold, o.folds);
+      Candidate& e = scored[c];
+      e.effect = cands[c];
+      e.score.effects = chosen;
+      e.score.effects.push_back(cands[c]);
+      e.score.n_params = model.n_params + 1;
+      scoreFit(cvs[c].sse, N, &e.score);
+      e.score.heldout_rmse_N = std::sqrt(cvs[c].heldout_sse / N);
+      e.value = ev[c].value[cvs[c].best];
+      e.simulations = static_cast<int>(ev[c].pred.size()) - 1;
+      e.admissible = e.value > 0;
+    }
+    const int pick = weighRound(round, model, scored, o, &r.evidence);
+    if (pick < 0) break;
+    chosen.push_back(cands[pick]);
+    setOrganEffect(current, cands[pick], ev[pick].value[cvs[pick].best]);
+    model = makeFit(chosen, current, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse);
+  }
+  r.effects = chosen;
+  r.extended = model;
+  r.heldout_rmse_ratio = r.baseline.heldout_rmse_N / std::max(r.extended.heldout_rmse_N, 1e-300);
+  r.baseline_diagnostics = diagnose(rec, r.baseline);
+  r.extended_diagnostics = diagnose(rec, r.extended);
+  r.unexplained = isUnexplained(r.extended_diagnostics, o);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
+
+  r.diagnosis = diagnosisText(r, o);
+  return r;
+}
+
+namespace {
+nlohmann::json fitJson(const InsertionFit& f) {
+  nlohmann::json j = scoreJson(f);
+  j["law"] = f.effects.empty() ? "paper" : "extended";
+  nlohmann::json p = nlohmann::json::object();
+  for (const std::string& e : f.effects) {
+    const auto pu = organEffectParameter(e);
+    p[pu.first] = {{"value", organEffectValue(f.params, e)}, {"unit", pu.second}};
+  }
+  p["offset_N"] = {{"value", f.offset_N}, {"unit", "N"}};
+  p["offset_Nm"] = {{"value", f.offset_Nm}, {"unit", "N m"}};
+  j["params"] = p;
+  j["rmse_Nm"] = f.rmse_Nm;
+  if (f.tip_rmse_m >= 0) j["tip_rmse_m"] = f.tip_rmse_m;
+  return j;
+}
+}  // namespace
+
+nlohmann::json organIdentifyJson(const InsertionRecording& rec, const InsertionIdentifyResult& r) {
+  const InsertionIdentifyOptions o;
+  nlohmann::json j;
+  j["file"] = rec.file;
+  j["experiment"] = "insertion";
+  j["scenario"] = rec.scenario;
+  j["rows"] = rec.rows();
+  j["baseline"] = fitJson(r.baseline);
+  j["extended"] = fitJson(r.extended);
+  addSelectionJson(selectionSummary(r),
+                   "replay of the recorded inputs; per candidate a log grid of its magnitude refined twice; "
+                   "blocked cross-validation over " + std::to_string(o.folds) +
+                       " contiguous time blocks (value and force offset chosen on the other blocks)",
+                   o, true, &j);
+  if (r.skipped_round > 0)
+    j["evidence"]["round_not_run"] = {{"round", r.skipped_round}, {"heldout_rmse_N", r.extended.heldout_rmse_N},
+                                      {"noise_sd_N", r.skipped_noise_sd_N},
+                                      {"reason", "held-out RMSE within min_heldout_rmse_ratio of the white-noise level"}};
+  j["timing"] = {{"seconds", r.seconds}, {"simulations", r.simulations}, {"search_spacing_m", r.search_spacing_m},
+                 {"threads", r.threads}};
+  return j;
+}
+
+void writeOrganParameters(const std::string& path, const std::string& base, const InsertionFit& f,
+                          const std::string& source) {
+  std::ifstream in(base);
+  if (!in) throw std::runtime_error(base + ": cannot read the file");
+  nlohmann::json j = nlohmann::json::parse(in);
+  const std::string src = "identified: " + source;
+  j["contact"]["friction_coefficient"]["value"] = f.params.friction;
+  j["contact"]["friction_coefficient"]["source"] = src;
+  j["colon"]["bending_rigidity"]["value"] = f.params.bending_EI_Nm2;
+  j["colon"]["bending_rigidity"]["source"] = src;
+  j["colon"]["mesentery_stiffening"]["value"] = f.params.stiffening_per_m2;
+  j["colon"]["mesentery_stiffening"]["source"] = src;
+  // The tension-law effects, with the EA and EC of the base parameters (what the replays ran).
+  const std::optional<ExtendedLawParams> law = organLawParams(loadParameters(base), f.params);
+  if (law)
+    j["colon"]["tension_law"] = tensionLawJson(*law, {}, src);
+  else
+    j["colon"].erase("tension_law");
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error(path + ": cannot write the file");
+  out << j.dump(2) << "\n";
+}
+
+}  // namespace colosim

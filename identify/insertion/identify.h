@@ -1,0 +1,66 @@
+// Identification at the organ level (issue 7; docs/organ-identification.md): replay a
+// recorded insertion with the paper's model, show where its handle force departs from the
+// measurement, name the extension(s) that explain the rest by held-out error and BIC,
+// measure the gain.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "identify/insertion/replay.h"
+#include "identify/selection.h"
+
+namespace colosim {
+
+/// A model of the organ replayed on a recording: the effects it has (ModelScore::effects,
+/// empty for the paper's model), their magnitudes and its errors.
+struct InsertionFit : ModelScore {
+  OrganParams params;
+  double offset_N = 0, offset_Nm = 0;  ///< sensor offsets, force [N] and torque [N m]
+  double rmse_Nm = 0;                  ///< torque error [N m]
+  double tip_rmse_m = -1;              ///< when the recording has a tip (else -1) [m]
+  Prediction prediction;
+};
+
+struct InsertionIdentifyOptions : IdentifyOptions {
+  double search_spacing_m = 0.03;     ///< coarser model while searching [m] (0: the parameter file's)
+  int threads = 2;                    ///< replays run at once
+};
+
+struct InsertionIdentifyResult {
+  InsertionFit baseline, extended;
+  std::vector<std::string> effects;
+  double heldout_rmse_ratio = 1;
+  bool unexplained = false;
+  std::vector<CandidateEvidence> evidence;
+  Diagnostics baseline_diagnostics, extended_diagnostics;  ///< profiles: motion, loop, insertion_depth
+  int simulations = 0;
+  int skipped_round = 0;              ///< round not run because the model is explained to the noise (0: none)
+  double skipped_noise_sd_N = 0;      ///< the white-noise level that decided it [N]
+  double seconds = 0;                 ///< wall-clock time of the identification [s]
+  double search_spacing_m = 0;
+  int threads = 1;                    ///< replays run at once
+  std::string diagnosis;
+};
+
+/// Motion at row k by the recorded insertion speed (central difference): 0 push (> +2 mm/s),
+/// 1 hold, 2 pull (< -2 mm/s).
+int insertionMotion(const InsertionRecording& rec, size_t k);
+
+InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const ReplaySetup& setup,
+                                          const InsertionIdentifyOptions& options = {});
+
+/// The JSON object of `colosim identify --json` for an insertion (the keys of the tension
+/// identification: effects, baseline, extended, gain, unexplained, evidence, ...).
+nlohmann::json organIdentifyJson(const InsertionRecording& rec, const InsertionIdentifyResult& r);
+
+/// A parameter file (colosim-params): the scenario's parameter file `base_params_path` with
+/// the identified extensions of `fit` - contact.friction_coefficient, colon.bending_rigidity,
+/// colon.mesentery_stiffening, and the tension-law effects as colon.tension_law (removed when
+/// the fit has none) - so that `colosim run SCENARIO --params FILE` simulates the fitted model.
+void writeOrganParameters(const std::string& path, const std::string& base_params_path, const InsertionFit& fit,
+                          const std::string& source);
+
+}  // namespace colosim

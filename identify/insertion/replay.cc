@@ -1,0 +1,159 @@
+#include "identify/insertion/replay.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/colon_step.h"
+#include "core/input_error.h"
+#include "core/scope_step.h"
+#include "trainer/world_simulation.h"
+
+namespace colosim {
+
+const std::vector<std::string>& organEffectNames() {
+  static const std::vector<std::string> names = {"wall_friction", "colon_bending", "mesentery_stiffening",
+                                                 "strain_stiffening", "stress_relaxation", "cyclic_softening",
+                                                 "permanent_set"};
+  return names;
+}
+
+double organEffectValue(const OrganParams& p, const std::string& e) {
+  if (e == "wall_friction") return p.friction;
+  if (e == "colon_bending") return p.bending_EI_Nm2;
+  if (e == "mesentery_stiffening") return p.stiffening_per_m2;
+  if (e == "strain_stiffening") return p.fung_b;
+  if (e == "stress_relaxation") return p.relax_g1;
+  if (e == "cyclic_softening") return p.soften_d_inf;
+  if (e == "permanent_set") return p.set_ratio;
+  throw std::invalid_argument("unknown organ effect '" + e + "'");
+}
+
+void setOrganEffect(OrganParams& p, const std::string& e, double v) {
+  if (e == "wall_friction") p.friction = v;
+  else if (e == "colon_bending") p.bending_EI_Nm2 = v;
+  else if (e == "mesentery_stiffening") p.stiffening_per_m2 = v;
+  else if (e == "strain_stiffening") p.fung_b = v;
+  else if (e == "stress_relaxation") p.relax_g1 = v;
+  else if (e == "cyclic_softening") p.soften_d_inf = v;
+  else if (e == "permanent_set") p.set_ratio = v;
+  else throw std::invalid_argument("unknown organ effect '" + e + "'");
+}
+
+std::pair<std::string, std::string> organEffectParameter(const std::string& e) {
+  if (e == "wall_friction") return {"friction_coefficient", "1"};
+  if (e == "colon_bending") return {"bending_rigidity_Nm2", "N m^2"};
+  if (e == "mesentery_stiffening") return {"mesentery_stiffening_per_m2", "1/m^2"};
+  if (e == "strain_stiffening") return {"fung_b", "1"};
+  if (e == "stress_relaxation") return {"relax_g1", "1"};
+  if (e == "cyclic_softening") return {"soften_d_inf", "1"};
+  if (e == "permanent_set") return {"set_ratio", "1"};
+  throw std::invalid_argument("unknown organ effect '" + e + "'");
+}
+
+ReplaySetup makeReplaySetup(const Scenario& scenario, double spacing_m) {
+  ReplaySetup s;
+  s.scenario = scenario;
+  s.dt_s = scenario.dt_s;
+  s.params = loadParameters(scenario.params_path);
+  if (scenario.overrides.patient_position) s.params.colon.patient_position = *scenario.overrides.patient_position;
+  if (spacing_m > 0) {
+    s.params.colon.control_point_spacing_m = spacing_m;
+    s.params.scope.segment_length_m = spacing_m;
+  }
+  return s;
+}
+
+std::optional<ExtendedLawParams> organLawParams(const Parameters& params, const OrganParams& p) {
+  if (!(p.fung_b > 0) && !(p.relax_g1 > 0) && !(p.soften_d_inf > 0) && !(p.set_ratio > 0)) return std::nullopt;
+  ExtendedLawParams lp;
+  lp.ea_N = params.colon.tension_EA_N;
+  lp.ec_Ns = params.colon.tension_EC_Ns;
+  if (p.fung_b > 0) {
+    lp.enable("strain_stiffening");
+    lp.fung_b = p.fung_b;
+  }
+  if (p.relax_g1 > 0) {
+    lp.enable("stress_relaxation");
+    lp.relax_g1 = p.relax_g1;
+    lp.relax_tau1_s = kRelaxTau_s;
+  }
+  if (p.soften_d_inf > 0) {
+    lp.enable("cyclic_softening");
+    lp.soften_d_inf = p.soften_d_inf;
+    lp.soften_a_c = kSoftenAc;
+  }
+  if (p.set_ratio > 0) {
+    lp.enable("permanent_set");
+    lp.set_ratio = p.set_ratio;
+  }
+  return lp;
+}
+
+Parameters organParameters(const Parameters& params, const OrganParams& p) {
+  Parameters q = params;
+  q.contact.friction_coefficient = p.friction;
+  q.colon.bending_EI_Nm2 = p.bending_EI_Nm2;
+  q.colon.mesentery_stiffening_per_m2 = p.stiffening_per_m2;
+  q.tension_law = organLawParams(params, p);
+  return q;
+}
+
+Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p) {
+  // The law comes with the parameter set (Parameters::tension_law), as in `colosim run`.
+  // The scenario's abdominal pressure is not replayed here: refuse rather than ignore it.
+  if (!setup.scenario.abdominal_pressure.empty())
+    throw InputError(setup.scenario.file + ": abdominal_pressure: not supported by the organ-level replay (identification)");
+  WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
+  const double dt = setup.dt_s;
+  const ScenarioStart& start = setup.scenario.start;
+  // Start state as WorldSimulation builds it from the scenario: settle the colon with the
+  // scope out, then thread the scope to the first input.
+  WorldSimulation sim(std::move(model), dt, HandleInput(), "fcl");
+  WorldState& st = sim.mutableState();
+  if (start.kind == "settled") {
+    const long steps = std::lround(start.settle_s / dt);
+    for (long k = 0; k < steps; ++k) stepColon(sim.model().colon, st.colon, dt);
+    st.colon.time_s = 0.0;
+  }
+  double t0 = 0.0;
+  if (start.kind == "scripted") {
+    // The scenario's set-up part is simulated first; the recording starts where it ends.
+    const HandleInput first = setup.scenario.script.front().input;
+    if (first.insertion_m > 0) threadScopeAlongColon(sim.model(), st, first.insertion_m, first.rotation_rad);
+    st.scope.input = clampHandleInput(sim.model().scope, first);
+    const long steps = std::lround(start.until_s / dt);
+    for (long k = 1; k <= steps; ++k) sim.step(scriptedInput(setup.scenario.script, k * dt));
+    t0 = st.colon.time_s;
+  } else {
+    const HandleInput first = rec.input.front();
+    if (first.insertion_m > 0) threadScopeAlongColon(sim.model(), st, first.insertion_m, first.rotation_rad);
+    st.scope.input = clampHandleInput(sim.model().scope, first);
+  }
+
+  Prediction out;
+  const size_t n = rec.rows();
+  out.force_N.resize(n);
+  out.torque_Nm.resize(n);
+  out.tip_m.resize(n);
+  out.loop_turns.resize(n);
+  long step = 0;
+  Telemetry tel = sim.telemetry();
+  for (size_t k = 0; k < n; ++k) {
+    // Steps whose end time reaches the row's time (recording time; 1 ns tolerance).
+    while ((step * dt) < rec.time_s[k] - 1e-9) {
+      ++step;
+      sim.step(recordedInput(rec, step * dt));
+      tel = sim.telemetry();
+      if (!st.colon.solver_ok || !st.scope.solver_ok) out.ok = false;
+    }
+    out.force_N[k] = tel.handle_force_N;
+    out.torque_Nm[k] = tel.handle_torque_Nm;
+    out.tip_m[k] = tel.tip_position_m;
+    out.loop_turns[k] = tel.loop_turns;
+    if (!std::isfinite(tel.handle_force_N) || !std::isfinite(tel.handle_torque_Nm)) out.ok = false;
+  }
+  (void)t0;
+  return out;
+}
+
+}  // namespace colosim

@@ -1,0 +1,621 @@
+#include "identify/tension/identify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <ceres/ceres.h>
+
+#include "identify/tension/forward.h"
+
+namespace colosim {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------
+// Parameter layout: the fitted vector x holds scaled values (x_i = theta_i / scale_i) so
+// that every coordinate is of order one for the optimiser and its finite differences.
+
+struct ParamDef {
+  std::string name, unit;
+  double scale, lo, hi;  // scale and bounds of theta (unscaled units)
+};
+
+struct Data {
+  const TensionTest* test = nullptr;
+  std::vector<double> strain, rate;
+  double ea_scale_N = 10;       // magnitude of EA for scaling [N]
+  double total_loading_strain = 1;  // accumulated loading strain of the protocol [-]
+};
+
+std::vector<ParamDef> layout(const Data& d, const std::vector<std::string>& effects) {
+  auto has = [&](const char* e) { return std::find(effects.begin(), effects.end(), e) != effects.end(); };
+  std::vector<ParamDef> p = {{"EA_N", "N", d.ea_scale_N, 1e-3 * d.ea_scale_N, 1e3 * d.ea_scale_N},
+                             {"EC_Ns", "N s", 0.1, 0.0, 1e3}};
+  if (has("strain_stiffening")) p.push_back({"fung_b", "1", 1.0, 0.0, 20.0});
+  if (has("stress_relaxation")) {
+    p.push_back({"relax_g1", "1", 0.3, 0.0, 0.95});
+    p.push_back({"relax_tau1_s", "s", 10.0, 0.05, 1e4});
+  }
+  if (has("cyclic_softening")) {
+    p.push_back({"soften_d_inf", "1", 0.2, 0.0, 0.95});
+    p.push_back({"soften_a_c", "1", std::max(1e-3, d.total_loading_strain / 5), 1e-4, 1e4});
+  }
+  if (has("permanent_set")) p.push_back({"set_ratio", "1", 0.1, 0.0, 0.9});
+  p.push_back({"offset_N", "N", 0.1, -1e3, 1e3});
+  return p;
+}
+
+// theta (unscaled, in layout order) -> law parameters and offset.
+ExtendedLawParams toLaw(const std::vector<ParamDef>& defs, const std::vector<std::string>& effects,
+                        const double* theta, double* offset_N) {
+  ExtendedLawParams lp;
+  for (const std::string& e : effects) lp.enable(e);
+  for (size_t i = 0; i < defs.size(); ++i) {
+    const std::string& n = defs[i].name;
+    const double v = theta[i];
+    if (n == "EA_N") lp.ea_N = v;
+    else if (n == "EC_Ns") lp.ec_Ns = v;
+    else if (n == "fung_b") lp.fung_b = v;
+    else if (n == "relax_g1") lp.relax_g1 = v;
+    else if (n == "relax_tau1_s") lp.relax_tau1_s = v;
+    else if (n == "soften_d_inf") lp.soften_d_inf = v;
+    else if (n == "soften_a_c") lp.soften_a_c = v;
+    else if (n == "set_ratio") lp.set_ratio = v;
+    else if (n == "offset_N") *offset_N = v;
+  }
+  return lp;
+}
+
+// theta of an existing fit, mapped onto the layout of a model with more effects; the new
+// effect's parameters take `extra` (name -> value) or their defaults.
+std::vector<double> thetaFrom(const std::vector<ParamDef>& defs, const FittedModel& m,
+                              const std::vector<std::pair<std::string, double>>& extra) {
+  std::vector<double> th(defs.size());
+  for (size_t i = 0; i < defs.size(); ++i) {
+    double v = defs[i].scale;
+    for (const ParamEstimate& p : m.params)
+      if (p.name == defs[i].name) v = p.value;
+    for (const auto& kv : extra)
+      if (kv.first == defs[i].name) v = kv.second;
+    th[i] = std::clamp(v, defs[i].lo, defs[i].hi);
+  }
+  return th;
+}
+
+// Predicted bench force for theta; false when the parameters make no valid law.
+bool predict(const Data& d, const std::vector<ParamDef>& defs, const std::vector<std::string>& effects,
+             const double* theta, std::vector<double>* out) {
+  double offset = 0;
+  try {
+    const ExtendedTensionLaw law(toLaw(defs, effects, theta, &offset));
+    benchForce(law, offset, d.test->time_s, d.strain, d.rate, out);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  return true;
+}
+
+struct ResidualFunctor {
+  const Data* d;
+  const std::vector<ParamDef>* defs;
+  const std::vector<std::string>* effects;
+  const std::vector<double>* weight;  // 1 for rows in the fit, 0 for held-out rows
+  mutable std::vector<double> theta, pred;
+  bool operator()(double const* const* x, double* residual) const {
+    const size_t np = defs->size();
+    theta.resize(np);
+    // Finite differences may step just past a bound: evaluate at the bound.
+    for (size_t i = 0; i < np; ++i)
+      theta[i] = std::clamp(x[0][i] * (*defs)[i].scale, (*defs)[i].lo, (*defs)[i].hi);
+    if (!predict(*d, *defs, *effects, theta.data(), &pred)) return false;
+    const std::vector<double>& f = d->test->force_N;
+    for (size_t k = 0; k < pred.size(); ++k) residual[k] = (*weight)[k] * (pred[k] - f[k]);
+    return true;
+  }
+};
+
+// Least-squares fit from theta0 over the rows with weight 1; returns theta and SSE.
+std::vector<double> solve(const Data& d, const std::vector<ParamDef>& defs, const std::vector<std::string>& effects,
+                          const std::vector<double>& theta0, const std::vector<double>& weight, int max_iterations,
+                          double* sse) {
+  const int np = static_cast<int>(defs.size());
+  std::vector<double> x(np);
+  for (int i = 0; i < np; ++i) x[i] = theta0[i] / defs[i].scale;
+  auto* functor = new ResidualFunctor{&d, &defs, &effects, &weight, {}, {}};
+  ceres::NumericDiffOptions nd;
+  nd.relative_step_size = 1e-6;
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<ResidualFunctor>(functor, ceres::TAKE_OWNERSHIP, nd);
+  cost->AddParameterBlock(np);
+  cost->SetNumResiduals(static_cast<int>(d.test->rows()));
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, x.data());
+  for (int i = 0; i < np; ++i) {
+    problem.SetParameterLowerBound(x.data(), i, defs[i].lo / defs[i].scale);
+    problem.SetParameterUpperBound(x.data(), i, defs[i].hi / defs[i].scale);
+  }
+  ceres::Solver::Options opt;
+  opt.linear_solver_type = ceres::DENSE_QR;
+  opt.max_num_iterations = max_iterations;
+  opt.function_tolerance = 1e-7;
+  opt.parameter_tolerance = 1e-7;
+  opt.logging_type = ceres::SILENT;
+  opt.minimizer_progress_to_stdout = false;
+  opt.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(opt, &problem, &summary);
+  std::vector<double> theta(np);
+  for (int i = 0; i < np; ++i) theta[i] = x[i] * defs[i].scale;
+  *sse = 2.0 * summary.final_cost;
+  return theta;
+}
+
+// Jacobian of the predicted bench force with respect to the scaled parameters x, by forward
+// differences (steps inward at the upper bounds). Empty when a prediction fails.
+Eigen::MatrixXd jacobian(const Data& d, const std::vector<ParamDef>& defs, const std::vector<std::string>& effects,
+                         const std::vector<double>& theta, const std::vector<double>& pred) {
+  const int np = static_cast<int>(defs.size());
+  const int n = static_cast<int>(pred.size());
+  Eigen::MatrixXd J(n, np);
+  std::vector<double> th = theta, p2;
+  for (int i = 0; i < np; ++i) {
+    double h = 1e-6 * std::max(std::abs(theta[i]), defs[i].scale);
+    if (theta[i] + h > defs[i].hi) h = -h;
+    th[i] = theta[i] + h;
+    if (!predict(d, defs, effects, th.data(), &p2)) return Eigen::MatrixXd();
+    for (int k = 0; k < n; ++k) J(k, i) = (p2[k] - pred[k]) / h * defs[i].scale;
+    th[i] = theta[i];
+  }
+  return J;
+}
+
+struct Fit {
+  FittedModel model;
+  std::vector<double> theta;
+};
+
+// Fills the model of a fit: law, prediction, errors, information criteria, parameter
+// standard deviations (s^2 (J^T J)^-1), and the held-out error of blocked cross-validation.
+//
+// Held-out error: for each fold, the fit is refitted on the other folds by one Gauss-Newton
+// step from the full fit (J and the residuals are those of the full fit restricted to the
+// training rows), then the law is simulated again with the refitted parameters and scored
+// on the fold. One step is the usual approximate refit (the model is close to linear in its
+// parameters around the optimum) and costs one simulation per fold instead of a full fit.
+Fit finishModel(const Data& d, const std::vector<ParamDef>& defs, const std::vector<std::string>& effects,
+                const std::vector<double>& theta, double sse, const std::vector<int>& fold, int folds) {
+  Fit f;
+  f.theta = theta;
+  FittedModel& m = f.model;
+  m.effects = effects;
+  m.law = toLaw(defs, effects, theta.data(), &m.offset_N);
+  predict(d, defs, effects, theta.data(), &m.prediction_N);
+  const int n = static_cast<int>(d.test->rows());
+  const int np = static_cast<int>(defs.size());
+  m.n_params = np;
+  scoreFit(sse, n, &m);
+  const Eigen::MatrixXd J = jacobian(d, defs, effects, theta, m.prediction_N);
+  std::vector<double> sd(np, NAN);
+  Eigen::VectorXd r(n);
+  for (int k = 0; k < n; ++k) r(k) = m.prediction_N[k] - d.test->force_N[k];
+  if (J.size()) {
+    const Eigen::MatrixXd cov = (sse / std::max(1, n - np)) *
+                                (J.transpose() * J).completeOrthogonalDecomposition().pseudoInverse();
+    for (int i = 0; i < np; ++i) sd[i] = std::sqrt(std::max(0.0, cov(i, i))) * defs[i].scale;
+  }
+  for (int i = 0; i < np; ++i) m.params.push_back({defs[i].name, theta[i], sd[i], defs[i].unit});
+
+  double held = 0;
+  std::vector<double> th(np), pred;
+  for (int fo = 0; fo < folds; ++fo) {
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(np, np);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(np);
+    for (int k = 0; k < n; ++k) {
+      if (fold[k] == fo || !J.size()) continue;
+      A.selfadjointView<Eigen::Lower>().rankUpdate(J.row(k).transpose());
+      g += J.row(k).transpose() * r(k);
+    }
+    A = A.selfadjointView<Eigen::Lower>();
+    Eigen::VectorXd dx = Eigen::VectorXd::Zero(np);
+    if (J.size()) {
+      A.diagonal() *= 1.0 + 1e-9;  // Levenberg-Marquardt damping against exact null directions
+      dx = -A.completeOrthogonalDecomposition().solve(g);
+    }
+    for (int i = 0; i < np; ++i) th[i] = std::clamp(theta[i] + dx(i) * defs[i].scale, defs[i].lo, defs[i].hi);
+    if (!predict(d, defs, effects, th.data(), &pred)) pred = m.prediction_N;
+    for (int k = 0; k < n; ++k)
+      if (fold[k] == fo) held += (pred[k] - d.test->force_N[k]) * (pred[k] - d.test->force_N[k]);
+  }
+  m.heldout_rmse_N = std::sqrt(held / n);
+  return f;
+}
+
+// Fits from each start (a few iterations each), continues the best to convergence.
+Fit fitModel(const Data& d, const std::vector<std::string>& effects, const std::vector<std::vector<double>>& starts,
+             const std::vector<int>& fold, int folds) {
+  const std::vector<ParamDef> defs = layout(d, effects);
+  const std::vector<double> ones(d.test->rows(), 1.0);
+  double best_sse = std::numeric_limits<double>::infinity();
+  std::vector<double> best;
+  for (const std::vector<double>& s : starts) {
+    double sse;
+    std::vector<double> th = solve(d, defs, effects, s, ones, starts.size() > 1 ? 6 : 40, &sse);
+    if (sse < best_sse) best_sse = sse, best = th;
+  }
+  if (starts.size() > 1) best = solve(d, defs, effects, best, ones, 34, &best_sse);
+  return finishModel(d, defs, effects, best, best_sse, fold, folds);
+}
+
+// ---------------------------------------------------------------------------------------
+// Protocol segmentation: loading / hold / unloading, cycles, folds.
+
+void segment(const Data& d, IdentifyResult* r, int folds) {
+  const TensionTest& t = *d.test;
+  const size_t n = t.rows();
+  // Rate over +-2 rows (robust to a slightly irregular time base).
+  std::vector<double> rate(n);
+  double max_rate = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const size_t a = k >= 2 ? k - 2 : 0, b = std::min(n - 1, k + 2);
+    rate[k] = (d.strain[b] - d.strain[a]) / (t.time_s[b] - t.time_s[a]);
+    max_rate = std::max(max_rate, std::abs(rate[k]));
+  }
+  const double thr = 0.05 * max_rate;
+  r->cycle.assign(n, 0);
+  r->time_in_hold_s.assign(n, -1.0);
+  int cycle = 0;
+  bool unloaded_since_start = false;
+  bool started = false;
+  double hold_start = -1;
+  for (size_t k = 0; k < n; ++k) {
+    const int cls = rate[k] > thr ? 1 : (rate[k] < -thr ? -1 : 0);
+    if (cls == -1) unloaded_since_start = true;
+    if (cls == 1 && (!started || unloaded_since_start)) {
+      if (started) ++cycle;
+      started = true;
+      unloaded_since_start = false;
+    }
+    r->cycle[k] = cycle;
+    if (cls == 0) {
+      if (hold_start < 0) hold_start = t.time_s[k];
+      r->time_in_hold_s[k] = t.time_s[k] - hold_start;
+    } else {
+      hold_start = -1;
+    }
+  }
+  r->cycles = cycle + 1;
+  r->fold.assign(n, 0);
+  if (r->cycles >= 2 * folds) {
+    for (size_t k = 0; k < n; ++k) r->fold[k] = r->cycle[k] % folds;
+  } else {
+    for (size_t k = 0; k < n; ++k) r->fold[k] = static_cast<int>(folds * k / n);
+  }
+}
+
+// The residual in bins of x between consecutive edges (below the first: the first bin, at
+// or above the last: the last), rows with use[k] only; bins without rows are left out and
+// each kept bin is named by its centre (by its lower edge when it is unbounded above).
+ResidualProfile profile(const std::string& name, const std::vector<double>& x, const std::vector<double>& res,
+                        const std::vector<double>& edges, const std::vector<bool>& use) {
+  const size_t nb = edges.size() - 1;
+  std::vector<int> bin(x.size(), -1);
+  for (size_t k = 0; k < x.size(); ++k) {
+    if (!use[k]) continue;
+    const size_t b = std::upper_bound(edges.begin(), edges.end(), x[k]) - edges.begin();
+    bin[k] = static_cast<int>(b == 0 ? 0 : std::min(b - 1, nb - 1));
+  }
+  const ResidualProfile all = residualProfile(name, res, bin, static_cast<int>(nb));
+  ResidualProfile p;
+  p.variable = name;
+  p.structure_N = all.structure_N;
+  for (size_t b = 0; b < nb; ++b) {
+    if (all.count[b] == 0) continue;
+    p.bin_centre.push_back(std::isfinite(edges[b + 1]) ? 0.5 * (edges[b] + edges[b + 1]) : edges[b]);
+    p.mean_residual_N.push_back(all.mean_residual_N[b]);
+    p.count.push_back(all.count[b]);
+  }
+  return p;
+}
+
+Diagnostics diagnose(const Data& d, const IdentifyResult& r, const FittedModel& m) {
+  const TensionTest& t = *d.test;
+  const size_t n = t.rows();
+  std::vector<double> res(n);
+  for (size_t k = 0; k < n; ++k) res[k] = t.force_N[k] - m.prediction_N[k];
+  Diagnostics g = diagnoseResidual(m.rmse_N, res);
+  double mean = std::accumulate(res.begin(), res.end(), 0.0) / n, c0 = 0, c1 = 0;
+  for (size_t k = 0; k < n; ++k) c0 += (res[k] - mean) * (res[k] - mean);
+  for (size_t k = 1; k < n; ++k) c1 += (res[k] - mean) * (res[k - 1] - mean);
+  g.lag1_autocorrelation = c0 > 0 ? c1 / c0 : 0;
+  // Residual smoothed over +-1 s.
+  double s2 = 0;
+  size_t a = 0, b = 0;
+  double window_sum = 0;
+  for (size_t k = 0; k < n; ++k) {
+    while (b < n && t.time_s[b] <= t.time_s[k] + 1.0) window_sum += res[b++];
+    while (t.time_s[a] < t.time_s[k] - 1.0) window_sum -= res[a++];
+    const double sm = window_sum / (b - a);
+    s2 += sm * sm;
+  }
+  g.smooth_structure_N = std::sqrt(s2 / n);
+
+  const std::vector<bool> all(n, true);
+  double emin = *std::min_element(d.strain.begin(), d.strain.end());
+  double emax = *std::max_element(d.strain.begin(), d.strain.end());
+  std::vector<double> edges;
+  for (int i = 0; i <= 8; ++i) edges.push_back(emin + (emax - emin) * i / 8.0);
+  edges.back() = std::numeric_limits<double>::infinity();
+  g.profiles.push_back(profile("strain", d.strain, res, edges, all));
+  double rmax = 0;
+  for (double x : d.rate) rmax = std::max(rmax, std::abs(x));
+  edges.clear();
+  for (int i = 0; i <= 8; ++i) edges.push_back(rmax * (-1.0 + 2.0 * i / 8.0));
+  edges.front() = -std::numeric_limits<double>::infinity();
+  edges.back() = std::numeric_limits<double>::infinity();
+  g.profiles.push_back(profile("strain_rate_per_s", d.rate, res, edges, all));
+  std::vector<bool> in_hold(n);
+  for (size_t k = 0; k < n; ++k) in_hold[k] = r.time_in_hold_s[k] >= 0 && d.strain[k] > 0.25 * emax;
+  g.profiles.push_back(profile("time_in_hold_s", r.time_in_hold_s, res,
+                               {0, 1, 3, 10, 20, 40, std::numeric_limits<double>::infinity()}, in_hold));
+  std::vector<double> cyc(n);
+  for (size_t k = 0; k < n; ++k) cyc[k] = r.cycle[k];
+  edges.clear();
+  for (int c = 0; c <= r.cycles; ++c) edges.push_back(c - 0.5);
+  g.profiles.push_back(profile("cycle", cyc, res, edges, all));
+  for (ResidualProfile& p : g.profiles)
+    if (p.variable == "cycle")
+      for (double& c : p.bin_centre) c = std::round(c);
+  return g;
+}
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : " + ") + x;
+  return s.empty() ? "none" : s;
+}
+
+// The fitted candidates of a round, named, for the selection rule.
+std::vector<Candidate> candidatesOf(const std::vector<std::string>& names, const std::vector<Fit>& fits) {
+  std::vector<Candidate> c(names.size());
+  for (size_t i = 0; i < names.size(); ++i) c[i].effect = names[i], c[i].score = fits[i].model;
+  return c;
+}
+
+// Starting points for a model that adds `effect` to the fitted `current`.
+std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& current, const std::string& effect) {
+  const std::vector<std::string> effects = [&] {
+    std::vector<std::string> e = current.effects;
+    e.push_back(effect);
+    return e;
+  }();
+  const std::vector<ParamDef> defs = layout(d, effects);
+  double ea = current.law.ea_N;
+  std::vector<std::vector<double>> s;
+  if (effect == "strain_stiffening") {
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 0.5 * ea}, {"fung_b", 1.0}}));
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 0.2 * ea}, {"fung_b", 3.0}}));
+  } else if (effect == "stress_relaxation") {
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 1.3 * ea}, {"relax_g1", 0.3}, {"relax_tau1_s", 3.0}}));
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 1.3 * ea}, {"relax_g1", 0.3}, {"relax_tau1_s", 30.0}}));
+  } else if (effect == "cyclic_softening") {
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 1.2 * ea}, {"soften_d_inf", 0.2},
+                                          {"soften_a_c", d.total_loading_strain / 8}}));
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 1.2 * ea}, {"soften_d_inf", 0.2},
+                                          {"soften_a_c", d.total_loading_strain / 2}}));
+  } else {
+    s.push_back(thetaFrom(defs, current, {{"set_ratio", 0.05}}));
+  }
+  return s;
+}
+
+}  // namespace
+
+FittedModel fitTensionLaw(const TensionTest& test, const std::vector<std::string>& effects, const FittedModel* start) {
+  Data d;
+  d.test = &test;
+  tensionStrainHistory(test, &d.strain, &d.rate);
+  FittedModel base;
+  if (start) base = *start;
+  else {
+    base.law.ea_N = 10;
+    base.law.ec_Ns = 0.05;
+    base.params = {{"EA_N", 10, 0, "N"}, {"EC_Ns", 0.05, 0, "N s"}, {"offset_N", 0, 0, "N"}};
+  }
+  std::vector<double> th = thetaFrom(layout(d, effects), base, {});
+  const std::vector<int> fold(test.rows(), 0);
+  return fitModel(d, effects, {th}, fold, 1).model;
+}
+
+namespace {
+
+// Averages consecutive rows in blocks of `block` (time, elongation and force alike).
+TensionTest blockAverage(const TensionTest& t, size_t block) {
+  TensionTest w;
+  w.file = t.file;
+  w.sample_length_m = t.sample_length_m;
+  for (size_t a = 0; a < t.rows(); a += block) {
+    const size_t b = std::min(t.rows(), a + block);
+    double ts = 0, es = 0, fs = 0;
+    for (size_t k = a; k < b; ++k) ts += t.time_s[k], es += t.elongation_m[k], fs += t.force_N[k];
+    w.time_s.push_back(ts / (b - a));
+    w.elongation_m.push_back(es / (b - a));
+    w.force_N.push_back(fs / (b - a));
+  }
+  return w;
+}
+
+void prepare(const TensionTest& t, Data* d) {
+  d->test = &t;
+  tensionStrainHistory(t, &d->strain, &d->rate);
+  d->total_loading_strain = 1e-3;
+  for (size_t k = 1; k < t.rows(); ++k)
+    if (d->strain[k] > 0) d->total_loading_strain += std::max(0.0, d->strain[k] - std::max(0.0, d->strain[k - 1]));
+}
+
+// Baseline start: linear least squares F = off + EA e + EC edot on the taut rows.
+FittedModel linearStart(const Data& d) {
+  const size_t n = d.test->rows();
+  Eigen::MatrixXd A(n, 3);
+  Eigen::VectorXd y(n);
+  int m = 0;
+  for (size_t k = 0; k < n; ++k) {
+    if (d.strain[k] <= 0) continue;
+    A.row(m) << 1.0, d.strain[k], d.rate[k];
+    y(m++) = d.test->force_N[k];
+  }
+  double ea = 10, ec = 0.05, off = 0;
+  if (m >= 3) {
+    const Eigen::Vector3d c = A.topRows(m).colPivHouseholderQr().solve(y.head(m));
+    if (c.allFinite() && c(1) > 0) off = c(0), ea = c(1), ec = std::max(0.0, c(2));
+  }
+  FittedModel s;
+  s.law.ea_N = ea;
+  s.params = {{"EA_N", ea, 0, "N"}, {"EC_Ns", ec, 0, "N s"}, {"offset_N", off, 0, "N"}};
+  return s;
+}
+
+// The diagnosis, for people: the baseline and where it fails, every candidate's evidence,
+// the cause, the extended law and the gain, the remaining structure.
+std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
+  const Diagnostics& ed = r.extended_diagnostics;
+  const Diagnostics& bd = r.baseline_diagnostics;
+  std::string s = "Baseline: the paper's Voigt law (eq. 6), F = EA e + EC de/dt, fitted with Ceres: " +
+                  fmt("EA = %.3g N, EC = %.3g N s, offset %.3g N.\n", r.baseline.law.ea_N, r.baseline.law.ec_Ns,
+                      r.baseline.offset_N);
+  s += fmt("  RMSE %.4f N (held-out %.4f N) against a white-noise level of %.4f N.\n", r.baseline.rmse_N,
+           r.baseline.heldout_rmse_N, bd.noise_sd_N);
+  s += "  Where it fails (RMS of the binned mean residual):";
+  for (const ResidualProfile& p : bd.profiles) s += " " + p.variable + fmt(" %.4f N;", p.structure_N);
+  s += "\n";
+  int round = 0;
+  for (const CandidateEvidence& e : r.evidence) {
+    if (e.round != round) {
+      round = e.round;
+      if (round == 3)
+        s += "Exchange: candidates replacing the first effect, added to " + e.model.front() + "\n";
+      else
+        s += fmt("Round %.0f: candidates added to ", round) +
+             join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
+    }
+    s += "  " + e.effect + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
+         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
+  }
+  if (r.effects.empty()) {
+    s += "Cause: none needed. No candidate pays for itself (held-out error cut by " +
+         fmt("%.0f %% and BIC lowered by %.0f): ", 100 * (o.min_heldout_ratio - 1), -o.max_delta_bic) +
+         "the Voigt law explains the data to the noise.\n";
+  } else {
+    s += "Cause: " + join(r.effects) + ".\n";
+    s += "Extended law:";
+    for (const ParamEstimate& p : r.extended.params) s += " " + p.name + fmt(" = %.4g +- %.2g", p.value, p.sd) + " " + p.unit + ";";
+    s += "\n" + fmt("Gain: held-out RMSE %.4f N -> %.4f N, ratio %.2f.\n", r.baseline.heldout_rmse_N,
+                    r.extended.heldout_rmse_N, r.heldout_rmse_ratio);
+  }
+  s += fmt("Remaining structure: RMSE %.4f N = %.2f x the white-noise level", ed.rmse_N, ed.rmse_N / std::max(1e-12, ed.noise_sd_N)) +
+       fmt(" (lag-1 autocorrelation %.2f); ", ed.lag1_autocorrelation) +
+       (r.unexplained ? "UNEXPLAINED: structure remains that no candidate effect explains.\n"
+                      : "explained to the noise.\n");
+  return s;
+}
+
+}  // namespace
+
+IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o) {
+  IdentifyResult r;
+  Data d;
+  prepare(test, &d);
+  r.strain = d.strain;
+  r.strain_rate_per_s = d.rate;
+  segment(d, &r, o.folds);
+
+  // Model selection runs on a working set of at most ~kWorkingRows rows: consecutive rows
+  // averaged in blocks. The force varies slowly against the sampling interval of a long
+  // test, so averaging keeps its information (and lowers the noise) at a fraction of the
+  // cost. The two models reported are then refitted on every row.
+  constexpr size_t kWorkingRows = 1000;
+  const size_t block = test.rows() > 3 * kWorkingRows / 2 ? (test.rows() + kWorkingRows - 1) / kWorkingRows : 1;
+  const TensionTest work = block > 1 ? blockAverage(test, block) : test;
+  Data w;
+  prepare(work, &w);
+  IdentifyResult wr;
+  segment(w, &wr, o.folds);
+  const FittedModel start = linearStart(w);
+  w.ea_scale_N = d.ea_scale_N = std::max(1e-3, start.law.ea_N);
+
+  const Fit base = fitModel(w, {}, {thetaFrom(layout(w, {}), start, {})}, wr.fold, o.folds);
+  // Forward selection of effects by held-out error, BIC as the second opinion. The
+  // candidates of a round are independent fits: two threads (this machine has two cores).
+  Fit current = base;
+  std::vector<Fit> round1;  // the single-effect fits, for the exchange step below
+  std::vector<std::string> round1_names;
+  for (int round = 1; round <= o.max_effects; ++round) {
+    std::vector<std::string> names;
+    for (const std::string& e : tensionEffectNames())
+      if (std::find(current.model.effects.begin(), current.model.effects.end(), e) == current.model.effects.end())
+        names.push_back(e);
+    std::vector<Fit> cands(names.size());
+    runInParallel(names.size(), 2, [&](size_t i) {
+      std::vector<std::string> effects = current.model.effects;
+      effects.push_back(names[i]);
+      cands[i] = fitModel(w, effects, startsFor(w, current.model, names[i]), wr.fold, o.folds);
+    });
+    const int best = weighRound(round, current.model, candidatesOf(names, cands), o, &r.evidence);
+    if (round == 1) round1 = cands, round1_names = names;
+    if (best < 0) break;
+    current = std::move(cands[best]);
+    r.effects.push_back(names[best]);
+  }
+
+  // Exchange step (stepwise selection): forward selection is greedy, and a first effect
+  // chosen because it mimics part of two others can stay in a wrong pair. With two effects
+  // {A, B}, each unchosen C is tried in place of A ({B, C}); it replaces A only when it
+  // pays for itself against {A, B} by the same rule.
+  if (r.effects.size() == 2) {
+    const std::string a = r.effects[0], b = r.effects[1];
+    const size_t ib = std::find(round1_names.begin(), round1_names.end(), b) - round1_names.begin();
+    std::vector<std::string> names;
+    for (const std::string& e : tensionEffectNames())
+      if (e != a && e != b) names.push_back(e);
+    std::vector<Fit> cands(names.size());
+    runInParallel(names.size(), 2, [&](size_t i) {
+      cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
+    });
+    const int best = weighRound(3, current.model, candidatesOf(names, cands), o, &r.evidence);
+    if (best >= 0) {
+      current = std::move(cands[best]);
+      r.effects = {b, names[best]};
+    }
+  }
+
+  // The reported models, on every row.
+  if (block > 1) {
+    r.baseline = fitModel(d, {}, {base.theta}, r.fold, o.folds).model;
+    r.extended = current.model.effects.empty()
+                     ? r.baseline
+                     : fitModel(d, current.model.effects, {current.theta}, r.fold, o.folds).model;
+  } else {
+    r.baseline = base.model;
+    r.extended = current.model;
+  }
+  r.working_rows = static_cast<int>(work.rows());
+  r.heldout_rmse_ratio = r.baseline.heldout_rmse_N / r.extended.heldout_rmse_N;
+  r.baseline_diagnostics = diagnose(d, r, r.baseline);
+  r.extended_diagnostics = diagnose(d, r, r.extended);
+  r.unexplained = isUnexplained(r.extended_diagnostics, o);
+
+  r.diagnosis = diagnosisText(r, o);
+  return r;
+}
+
+}  // namespace colosim

@@ -1,0 +1,60 @@
+// Identification of the colon's tension law from a measured tension test
+// (docs/identification.md): fit the paper's Voigt law, show where it fails, name the
+// effect(s) that explain the rest by held-out prediction error, measure the gain.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/extended_tension_law.h"
+#include "identify/selection.h"
+#include "identify/tension/tension_test.h"
+
+namespace colosim {
+
+/// One fitted parameter with its standard deviation (from the Gauss-Newton covariance
+/// s^2 (J^T J)^-1; with coloured noise this is optimistic).
+struct ParamEstimate {
+  std::string name;
+  double value = 0;
+  double sd = 0;
+  std::string unit;
+};
+
+/// A law fitted to a test: the effects it has (ModelScore::effects, empty for the Voigt
+/// law), its parameters and its errors.
+struct FittedModel : ModelScore {
+  ExtendedLawParams law;              ///< the fitted law
+  double offset_N = 0;                ///< fitted sensor offset [N]
+  std::vector<ParamEstimate> params;  ///< law parameters, then offset_N
+  std::vector<double> prediction_N;   ///< bench force of the full fit, per row [N]
+  std::string lawName() const { return effects.empty() ? "voigt" : "extended"; }
+};
+
+struct IdentifyResult {
+  FittedModel baseline;                 ///< the Voigt law (eq. 6)
+  FittedModel extended;                 ///< with the chosen effects (= baseline if none)
+  std::vector<std::string> effects;     ///< chosen effects, most important first
+  double heldout_rmse_ratio = 1;        ///< baseline / extended held-out error
+  bool unexplained = false;
+  std::vector<CandidateEvidence> evidence;
+  Diagnostics baseline_diagnostics, extended_diagnostics;
+  std::vector<double> strain, strain_rate_per_s;  ///< per row
+  std::vector<int> cycle;               ///< loading cycle of each row (0-based)
+  std::vector<int> fold;                ///< cross-validation fold of each row
+  std::vector<double> time_in_hold_s;   ///< time since the hold began, -1 outside holds
+  int cycles = 0;
+  int working_rows = 0;                 ///< rows of the (block-averaged) selection set
+  std::string diagnosis;                ///< the text of the diagnosis, for people
+};
+
+/// Runs the whole identification. Deterministic.
+IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& options = {});
+
+/// Fits a law with the given effects (plus a sensor offset) to every row of a test,
+/// starting from the parameters of `start` when given. No cross-validation (its
+/// heldout_rmse_N is not meaningful). For tools and tests.
+FittedModel fitTensionLaw(const TensionTest& test, const std::vector<std::string>& effects,
+                          const FittedModel* start = nullptr);
+
+}  // namespace colosim

@@ -1,0 +1,158 @@
+// Statistical tests of the identification (identify/tension/identify.h): the seeded bench
+// generator hides an effect (or none) in each case, with its parameters, protocol, noise,
+// offset, actuator rounding, time-base jitter and slack drawn at random from physiological
+// ranges; the identifier must name it.
+#include "identify/tension/identify.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "identify/tension/synthetic.h"
+
+namespace colosim {
+namespace {
+
+// Sized for the CI budget: ~2,300 rows per case (a 0.5 s sampling interval over ~19 min
+// of protocol), 20 cases per class.
+constexpr int kCases = 20;
+constexpr double kDt = 0.5;
+
+struct Case {
+  SyntheticSpec spec;
+  IdentifyResult result;
+};
+
+Case runCase(uint64_t seed, const std::vector<std::string>& effects) {
+  SyntheticDraw draw;
+  draw.effects = effects;
+  draw.nominal_dt_s = kDt;
+  Case c;
+  c.spec = drawSyntheticSpec(seed, draw);
+  c.result = identifyTension(generateTensionTest(c.spec));
+  return c;
+}
+
+double param(const FittedModel& m, const std::string& name) {
+  for (const ParamEstimate& p : m.params)
+    if (p.name == name) return p.value;
+  return NAN;
+}
+
+// The parameters that the protocol identifies for each effect (EC is not: at these rates
+// its force is below the noise, see docs/identification.md).
+std::vector<std::string> identifiable(const std::string& effect) {
+  if (effect == "strain_stiffening") return {"EA_N", "fung_b"};
+  if (effect == "stress_relaxation") return {"EA_N", "relax_g1", "relax_tau1_s"};
+  if (effect == "cyclic_softening") return {"EA_N", "soften_d_inf", "soften_a_c"};
+  if (effect == "permanent_set") return {"EA_N", "set_ratio"};
+  return {"EA_N"};
+}
+
+class HiddenEffect : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HiddenEffect, IsNamedItsParametersRecoveredAndTheGainMeasured) {
+  const std::string effect = GetParam();
+  const std::vector<std::string> truth = effect == "none" ? std::vector<std::string>{} : std::vector<std::string>{effect};
+  const std::map<std::string, uint64_t> first_seed = {{"none", 1000}, {"strain_stiffening", 2000},
+      {"stress_relaxation", 3000}, {"cyclic_softening", 4000}, {"permanent_set", 6000}};
+  const uint64_t base = first_seed.at(effect);
+  int right = 0, explained = 0, params_ok = 0;
+  for (int k = 0; k < kCases; ++k) {
+    const Case c = runCase(base + k, truth);
+    const IdentifyResult& r = c.result;
+    std::string got;
+    for (const std::string& e : r.effects) got += e + " ";
+    const bool named = r.effects == truth;
+    right += named;
+    explained += !r.unexplained;
+    // A miss is reported; the requirement is the 95 % below.
+    if (!named) std::printf("case %d (seed %lu): hidden [%s], found [%s]\n", k, static_cast<unsigned long>(base + k),
+                            effect.c_str(), got.c_str());
+    if (!truth.empty()) {
+      // A held-out gain in every case with an effect.
+      EXPECT_GT(r.heldout_rmse_ratio, 1.0) << "case " << k;
+      EXPECT_LT(r.extended.heldout_rmse_N, r.baseline.heldout_rmse_N) << "case " << k;
+    }
+    if (!named) continue;
+    // Recovered parameters within 10 %.
+    const ExtendedTensionLaw true_law(c.spec.truth);
+    bool ok = true;
+    for (const std::string& name : identifiable(effect)) {
+      double t = NAN;
+      for (const LawParameter& p : true_law.parameters())
+        if (p.name == name) t = p.value;
+      const double f = param(r.extended, name);
+      EXPECT_NEAR(f, t, 0.10 * std::abs(t)) << name << ", case " << k;
+      ok = ok && std::abs(f - t) <= 0.10 * std::abs(t);
+    }
+    params_ok += ok;
+  }
+  // At least 95 % named right ("none": an empty list), and explained to the noise.
+  EXPECT_GE(right, std::ceil(0.95 * kCases)) << effect;
+  EXPECT_GE(explained, std::ceil(0.95 * kCases)) << effect;
+  RecordProperty("named_right", right);
+  RecordProperty("parameters_within_10_percent", params_ok);
+  std::printf("%s: named right in %d / %d cases, parameters within 10 %% in %d\n", effect.c_str(), right, kCases,
+              params_ok);
+  // Every named case must have its identifiable parameters within 10 % (EXPECT_NEAR above).
+}
+
+INSTANTIATE_TEST_SUITE_P(Identify, HiddenEffect,
+                         ::testing::Values("none", "strain_stiffening", "stress_relaxation", "cyclic_softening",
+                                           "permanent_set"));
+
+TEST(Identify, FindsTwoEffectsTogether) {
+  // Every pair of effects, 4 cases each: both named (in either order) in >= 95 % of the
+  // cases, and a held-out gain in every case.
+  const std::vector<std::string>& names = tensionEffectNames();
+  int both = 0, cases = 0;
+  for (size_t a = 0; a < names.size(); ++a)
+    for (size_t b = a + 1; b < names.size(); ++b)
+      for (int k = 0; k < 4; ++k) {
+        const Case c = runCase(5000 + 100 * cases + k, {names[a], names[b]});
+        const std::set<std::string> found(c.result.effects.begin(), c.result.effects.end());
+        const bool ok = found == std::set<std::string>{names[a], names[b]};
+        both += ok;
+        ++cases;
+        if (!ok) {
+          std::string got;
+          for (const std::string& e : c.result.effects) got += e + " ";
+          std::printf("hidden %s + %s, found [%s]\n", names[a].c_str(), names[b].c_str(), got.c_str());
+        }
+        EXPECT_GT(c.result.heldout_rmse_ratio, 1.0);
+      }
+  EXPECT_GE(both, std::ceil(0.95 * cases));
+  std::printf("pairs: both effects named in %d / %d cases\n", both, cases);
+}
+
+TEST(Identify, SaysWhenStructureRemainsThatNoCandidateExplains) {
+  // Dry friction in the grips is none of the candidate effects.
+  int flagged = 0;
+  constexpr int kForeignCases = 4;
+  for (int k = 0; k < kForeignCases; ++k) {
+    SyntheticDraw draw;
+    draw.nominal_dt_s = kDt;
+    SyntheticSpec spec = drawSyntheticSpec(7000 + k, draw);
+    spec.foreign_friction_N = 0.4;
+    const IdentifyResult r = identifyTension(generateTensionTest(spec));
+    flagged += r.unexplained;
+  }
+  EXPECT_EQ(flagged, kForeignCases);
+}
+
+TEST(Identify, SameInputGivesBitIdenticalResults) {
+  const Case a = runCase(42, {"stress_relaxation"});
+  const Case b = runCase(42, {"stress_relaxation"});
+  ASSERT_EQ(a.result.extended.params.size(), b.result.extended.params.size());
+  for (size_t i = 0; i < a.result.extended.params.size(); ++i)
+    EXPECT_EQ(a.result.extended.params[i].value, b.result.extended.params[i].value);
+  EXPECT_EQ(a.result.extended.heldout_rmse_N, b.result.extended.heldout_rmse_N);
+  EXPECT_EQ(a.result.effects, b.result.effects);
+}
+
+}  // namespace
+}  // namespace colosim
