@@ -17,7 +17,6 @@
 
 #include "trainer/handle_io.h"
 #include "trainer/replay.h"
-#include "trainer/world_simulation.h"
 
 namespace colosim {
 
@@ -107,15 +106,7 @@ InputSource operatorSource(const Scenario& scenario, const HandleLimits& limits,
 void takeSnapshot(const Simulation& sim, long steps, Snapshot& out) {
   out.steps = steps;
   out.telemetry = sim.telemetry();
-  const auto* world = dynamic_cast<const WorldSimulation*>(&sim);
-  out.has_world = world != nullptr;
-  if (!world) return;
-  const WorldState& s = world->state();
-  out.colon_q = s.colon.q;
-  out.scope_centreline_m = world->scopeCentreline();
-  out.scope_radius_m = world->model().scope.radius_m;
-  out.p_WTip_m = tipPosition(world->model().scope, s.scope);
-  out.R_WTip = s.scope.R_WS[0];
+  out.has_scene = sim.scene(out.scene);
 }
 
 PhysicsLoop::PhysicsLoop(Simulation& sim, const ScoreOptions& scoring, SessionWriter* writer, InputSource source,
@@ -126,11 +117,9 @@ PhysicsLoop::PhysicsLoop(Simulation& sim, const ScoreOptions& scoring, SessionWr
       source_(std::move(source)),
       options_(options),
       on_warning_(std::move(on_warning)),
-      dt_s_(options.dt_s) {
+      dt_s_(sim.dt_s()) {
   // The start input is what the simulation holds before any step.
   input_ = sim_.telemetry().input;
-  if (const auto* world = dynamic_cast<const WorldSimulation*>(&sim_); world && world->dt_s() != dt_s_)
-    throw std::invalid_argument("PhysicsLoop: options.dt_s differs from the simulation's time step");
   if (!(dt_s_ > 0) || !source_) throw std::invalid_argument("PhysicsLoop: needs dt_s > 0 and an input source");
 }
 

@@ -188,7 +188,6 @@ TEST(PhysicsLoop, HeadlessWorldSessionReplaysBitIdentically) {
       return in;
     };
     PhysicsLoopOptions opt;
-    opt.dt_s = sc.dt_s;
     opt.real_time = false;
     opt.max_steps = 1200;
     PhysicsLoop loop(sim, sc.scoring, &writer, source, opt);
@@ -201,11 +200,11 @@ TEST(PhysicsLoop, HeadlessWorldSessionReplaysBitIdentically) {
   }
   EXPECT_EQ(recorded.steps, 1200);
   EXPECT_EQ(snap.steps, 1200);
-  EXPECT_TRUE(snap.has_world);
+  EXPECT_TRUE(snap.has_scene);
   EXPECT_EQ(snap.telemetry.input.insertion_m, insertion_m.back());
   // The scope went in (0.6 s at 3 cm/s, 0.2 s of it at 9 cm/s) and the tip moved inside.
   EXPECT_GT(insertion_m[650], 0.02);
-  EXPECT_GT(snap.scope_centreline_m.size(), 2u);
+  EXPECT_GT(snap.scene.scope_centreline_m.size(), 2u);
 
   const ReplayPlan plan = planReplay(path);
   EXPECT_EQ(plan.session.header.mode, "interactive");
@@ -238,7 +237,6 @@ TEST(PhysicsLoop, RatesChangedFromAnotherThreadAreRecordedAsUsed) {
     SessionWriter writer(path, header);
     SharedRates rates;
     PhysicsLoopOptions opt;
-    opt.dt_s = sc.dt_s;
     opt.max_steps = 250;  // 2.5 s at dt = 10 ms, paced in real time
     PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, HandleLimits(), rates), opt);
     loop.start();
@@ -287,7 +285,6 @@ TEST(PhysicsLoop, FallingBehindDropsTimeAndSaysSoOnce) {
   SlowSimulation sim(sc);
   SharedRates rates;
   PhysicsLoopOptions opt;
-  opt.dt_s = sc.dt_s;
   opt.max_steps = 60;
   opt.max_catch_up_steps = 10;
   std::vector<std::string> warnings;
@@ -324,7 +321,6 @@ TEST(PhysicsLoop, AStepErrorOnTheLoopThreadReachesTheCallerWithoutAnEndLine) {
   FailingSimulation sim(sc);
   SharedRates rates;
   PhysicsLoopOptions opt;
-  opt.dt_s = sc.dt_s;
   opt.real_time = false;
   {
     SessionWriter writer(path, sessionHeaderFor(sc, "test"));
@@ -346,7 +342,6 @@ TEST(PhysicsLoop, SnapshotsOnlyWhenNewer) {
   test::FakeSimulation sim(sc);
   SharedRates rates;
   PhysicsLoopOptions opt;
-  opt.dt_s = sc.dt_s;
   opt.real_time = false;
   opt.max_steps = 7;
   PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, HandleLimits(), rates, true), opt);
@@ -355,7 +350,7 @@ TEST(PhysicsLoop, SnapshotsOnlyWhenNewer) {
   loop.run();
   ASSERT_TRUE(loop.latest(s));
   EXPECT_EQ(s.steps, 7);
-  EXPECT_FALSE(s.has_world);
+  EXPECT_FALSE(s.has_scene);
   EXPECT_NEAR(s.telemetry.time_s, 7 * sc.dt_s, 1e-12);
   EXPECT_FALSE(loop.latest(s));  // nothing newer
   loop.finish();

@@ -9,7 +9,7 @@
 #include "core/identify/report.h"
 #include "organ/identify_insertion.h"
 #include "organ/report.h"
-#include "trainer/app/commands.h"
+#include "app/commands.h"
 #include "trainer/tension_law_file.h"
 
 namespace colosim::app {
