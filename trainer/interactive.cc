@@ -89,10 +89,9 @@ HandleRates ratesFromControls(const ControlState& c, const ControlSpeeds& s) {
   return r;
 }
 
-InputSource operatorSource(const Scenario& scenario, const HandleLimits& limits, const SharedRates& rates,
-                           bool autopilot) {
+InputSource operatorSource(const Scenario& scenario, double dt_s, const HandleLimits& limits,
+                           const SharedRates& rates, bool autopilot) {
   const std::vector<Keyframe> script = scenario.script;
-  const double dt_s = scenario.dt_s;
   // Steps of scripted set-up: those starting before until_s.
   const long setup_steps =
       scenario.start.kind == "scripted" ? static_cast<long>(std::ceil(scenario.start.until_s / dt_s - 1e-9)) : 0;

@@ -105,9 +105,10 @@ using InputSource = std::function<HandleInput(long step, const HandleInput& prev
 /// The operator's source for a scenario: the scenario's script during its set-up (start
 /// kind "scripted": the first until_s seconds, e.g. forming the alpha loop), then the
 /// operator's rates integrated step by step. With `autopilot`, the whole script (a demo,
-/// and a moving session for smoke tests). `rates` is read at every step.
-InputSource operatorSource(const Scenario& scenario, const HandleLimits& limits, const SharedRates& rates,
-                           bool autopilot = false);
+/// and a moving session for smoke tests). `rates` is read at every step. dt_s: the time
+/// step of the simulation the source feeds (Simulation::dt_s) [s].
+InputSource operatorSource(const Scenario& scenario, double dt_s, const HandleLimits& limits,
+                           const SharedRates& rates, bool autopilot = false);
 
 /// What the draw thread needs of one state, copied out of the physics thread.
 struct Snapshot {

@@ -190,7 +190,7 @@ TrainWindowResult runTrainWindow(const Scenario& scenario, const TrainWindowOpti
 
   SharedRates rates;
   PhysicsLoop loop(sim, scenario.scoring, &writer,
-                   operatorSource(scenario, handleLimitsOf(sim.model().scope), rates, o.autopilot), {},
+                   operatorSource(scenario, sim.dt_s(), handleLimitsOf(sim.model().scope), rates, o.autopilot), {},
                    [](const std::string& m) { std::fprintf(stderr, "colosim train: warning: %s\n", m.c_str()); });
 
   {
@@ -217,7 +217,7 @@ TrainWindowResult runTrainWindow(const Scenario& scenario, const TrainWindowOpti
   };
   loop.start();
   try {
-    auto frame_start = start;
+    auto frame_start = std::chrono::steady_clock::now();
     while (!window.shouldClose()) {
       window.pollEvents();
       GLFWwindow* w = window.handle();

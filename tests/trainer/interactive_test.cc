@@ -124,7 +124,7 @@ TEST(OperatorSource, ScriptedSetUpThenTheOperator) {
   HandleRates r;
   r.insertion_m_per_s = 0.05;
   rates.set(r);
-  const InputSource src = operatorSource(sc, HandleLimits(), rates);
+  const InputSource src = operatorSource(sc, sc.dt_s, HandleLimits(), rates);
   // Set-up: the script at k dt (dt = 10 ms, 60 steps before 0.6 s).
   for (long k : {0L, 30L, 51L, 59L}) {
     const HandleInput a = src(k, HandleInput()), b = scriptedInput(sc.script, k * sc.dt_s);
@@ -139,7 +139,7 @@ TEST(OperatorSource, ScriptedSetUpThenTheOperator) {
   EXPECT_NEAR(op.insertion_m, 0.3 + 0.05 * sc.dt_s, 1e-15);
   EXPECT_EQ(op.knob_updown_rad, 0.2);
   // Autopilot: the script throughout.
-  const InputSource auto_src = operatorSource(sc, HandleLimits(), rates, /*autopilot=*/true);
+  const InputSource auto_src = operatorSource(sc, sc.dt_s, HandleLimits(), rates, /*autopilot=*/true);
   EXPECT_EQ(auto_src(130, prev).insertion_m, scriptedInput(sc.script, 1.3).insertion_m);
 }
 
@@ -238,7 +238,7 @@ TEST(PhysicsLoop, RatesChangedFromAnotherThreadAreRecordedAsUsed) {
     SharedRates rates;
     PhysicsLoopOptions opt;
     opt.max_steps = 250;  // 2.5 s at dt = 10 ms, paced in real time
-    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, HandleLimits(), rates), opt);
+    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, sim.dt_s(), HandleLimits(), rates), opt);
     loop.start();
     std::mt19937 rng(42);
     std::uniform_int_distribution<int> coin(0, 1);
@@ -288,7 +288,7 @@ TEST(PhysicsLoop, FallingBehindDropsTimeAndSaysSoOnce) {
   opt.max_steps = 60;
   opt.max_catch_up_steps = 10;
   std::vector<std::string> warnings;
-  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, HandleLimits(), rates), opt,
+  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, sim.dt_s(), HandleLimits(), rates), opt,
                    [&](const std::string& m) { warnings.push_back(m); });
   loop.run();
   const PhysicsLoopResult r = loop.finish();
@@ -324,7 +324,7 @@ TEST(PhysicsLoop, AStepErrorOnTheLoopThreadReachesTheCallerWithoutAnEndLine) {
   opt.real_time = false;
   {
     SessionWriter writer(path, sessionHeaderFor(sc, "test"));
-    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, HandleLimits(), rates, true), opt);
+    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, sim.dt_s(), HandleLimits(), rates, true), opt);
     loop.start();
     while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     EXPECT_THROW(loop.finish(), std::runtime_error);
@@ -344,7 +344,7 @@ TEST(PhysicsLoop, SnapshotsOnlyWhenNewer) {
   PhysicsLoopOptions opt;
   opt.real_time = false;
   opt.max_steps = 7;
-  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, HandleLimits(), rates, true), opt);
+  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, sim.dt_s(), HandleLimits(), rates, true), opt);
   Snapshot s;
   EXPECT_FALSE(loop.latest(s));  // nothing published before the loop runs
   loop.run();
