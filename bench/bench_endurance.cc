@@ -81,7 +81,7 @@ BenchOutput benchEndurance(const BenchOptions& options) {
   Scenario sc = findScenario("free_insertion");
   sc.script = {Keyframe{0.0, cyclicUse(0.0)}};
   WorldSimulation sim(sc);
-  const double dt = sc.dt_s;
+  const double dt = sim.dt_s();
   const long steps = std::lround(hours * 3600.0 / dt);
   const double window_s = std::min(60.0, std::max(dt, hours * 3600.0 / 4));
   const long window_steps = std::max(1L, std::lround(window_s / dt));

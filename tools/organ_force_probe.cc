@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/colon_step.h"
 #include "core/rotation.h"
 #include "core/scope_step.h"
 #include "identify/insertion/replay.h"
@@ -38,16 +37,11 @@ int main(int argc, char** argv) {
   const double from = std::atof(argv[4]), to = std::atof(argv[5]);
   WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
   const double dt = setup.dt_s;
-  WorldSimulation sim(std::move(model), dt, HandleInput(), "fcl");
-  WorldState& st = sim.mutableState();
-  if (setup.scenario.start.kind == "settled") {
-    const long steps = std::lround(setup.scenario.start.settle_s / dt);
-    for (long k = 0; k < steps; ++k) stepColon(sim.model().colon, st.colon, dt);
-    st.colon.time_s = 0.0;
-  }
-  const HandleInput first = rec.input.front();
-  if (first.insertion_m > 0) threadScopeAlongColon(sim.model(), st, first.insertion_m, first.rotation_rad);
-  st.scope.input = clampHandleInput(sim.model().scope, first);
+  StartSpec start = startSpecOf(setup.scenario);
+  start.dt_s = dt;
+  start.first_input = rec.input.front();
+  WorldSimulation sim(std::move(model), start, "fcl");
+  const WorldState& st = sim.state();
   const ScopeModel& sm = sim.model().scope;
   std::printf("step,t_s,insertion_m,inside,handle_N,asked_N,wall_contacts,wall_last3_N,wall_max_N,"
               "gap_last_um,gap_prev_um,angle_last_rad,angle_prev_rad,v_last_axial,limited\n");

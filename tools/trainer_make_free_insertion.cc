@@ -137,8 +137,8 @@ int main(int argc, char** argv) {
     kf.t_s = round4(t + key_dt);
     kf.input = next;
     sc.script.push_back(kf);
-    const long until = std::lround(kf.t_s / sc.dt_s);
-    for (; k < until; ++k) sim.step(scriptedInput(sc.script, static_cast<double>(k) * sc.dt_s));
+    const long until = std::lround(kf.t_s / sim.dt_s());
+    for (; k < until; ++k) sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
   }
   const Telemetry tel = sim.telemetry();
   std::printf("end %.1f s: insertion %.3f m, tip %.3f m along the colon, %.3f m from the caecal pole, %d withdrawals, "

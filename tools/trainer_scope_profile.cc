@@ -33,8 +33,8 @@ int main(int argc, char** argv) {
   const ColonModel& cm = sim.model().colon;
   long k = 0;
   for (int a = 2; a < argc; ++a) {
-    const long until = std::lround(std::atof(argv[a]) / sc.dt_s);
-    for (; k < until; ++k) sim.step(scriptedInput(sc.script, static_cast<double>(k) * sc.dt_s));
+    const long until = std::lround(std::atof(argv[a]) / sim.dt_s());
+    for (; k < until; ++k) sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
     const WorldState& st = sim.state();
     const ScopeState& s = st.scope;
     // Each simulated segment's region: that of the colon control point nearest its centre.

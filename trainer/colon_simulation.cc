@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "core/colon_step.h"
 #include "trainer/assets.h"
 #include "trainer/scenario.h"
+#include "trainer/start_state.h"
 
 namespace colosim {
 
@@ -37,14 +39,14 @@ double mesenteryStretch(const ColonModel& model, const ColonState& state) {
 }
 
 ColonOnlySimulation::ColonOnlySimulation(const Scenario& scenario) : dt_s_(scenario.dt_s) {
-  model_ = loadColonModel(scenario.anatomy_path, scenarioParameters(scenario));
-  state_ = makeColonState(model_);
-  if (scenario.start.kind == "settled") {
-    const long settle_steps = std::lround(scenario.start.settle_s / dt_s_);
-    for (long k = 0; k < settle_steps; ++k) stepColon(model_, state_, dt_s_);
-    // The session's clock starts after settling.
-    state_.time_s = 0.0;
-  }
+  WorldModel world = loadWorldModel(scenario.anatomy_path, scenarioParameters(scenario));
+  // The world's start state without the scope or the hand on the abdomen: the colon
+  // settled and shaped as the scenario says.
+  StartSpec start = startSpecOf(scenario);
+  start.abdominal_pressure.clear();
+  start.first_input = HandleInput();
+  state_ = makeStartState(world, start).state.colon;
+  model_ = std::move(world.colon);
   if (!scenario.script.empty()) last_input_ = scenario.script.front().input;
 }
 

@@ -24,9 +24,11 @@ double mesenteryStretch(const ColonModel& model, const ColonState& state);
 class ColonOnlySimulation : public Simulation {
  public:
   /// Loads the scenario's anatomy and parameters (with its overrides) and applies its
-  /// start state. InputError for unusable files.
+  /// start state (trainer/start_state.h: settled, colon shape; no scope, no abdominal
+  /// pressure). InputError for unusable files.
   explicit ColonOnlySimulation(const Scenario& scenario);
   void step(const HandleInput& in) override;
+  double dt_s() const override { return dt_s_; }
   double time_s() const override { return state_.time_s; }
   uint64_t stateHash() const override { return hashColonState(state_); }
   /// Neutral values where there is no scope: no handle or wall force, the tip at the
@@ -42,7 +44,6 @@ class ColonOnlySimulation : public Simulation {
   ColonState state_;
   double dt_s_;
   HandleInput last_input_;
-  double time_offset_s_ = 0;  ///< settling time before t = 0 [s]
 };
 
 /// A SimulationFactory building ColonOnlySimulation.

@@ -17,7 +17,6 @@
 
 #include "trainer/handle_io.h"
 #include "trainer/replay.h"
-#include "trainer/world_simulation.h"
 
 namespace colosim {
 
@@ -90,10 +89,9 @@ HandleRates ratesFromControls(const ControlState& c, const ControlSpeeds& s) {
   return r;
 }
 
-InputSource operatorSource(const Scenario& scenario, const HandleLimits& limits, const SharedRates& rates,
-                           bool autopilot) {
+InputSource operatorSource(const Scenario& scenario, double dt_s, const HandleLimits& limits,
+                           const SharedRates& rates, bool autopilot) {
   const std::vector<Keyframe> script = scenario.script;
-  const double dt_s = scenario.dt_s;
   // Steps of scripted set-up: those starting before until_s.
   const long setup_steps =
       scenario.start.kind == "scripted" ? static_cast<long>(std::ceil(scenario.start.until_s / dt_s - 1e-9)) : 0;
@@ -107,15 +105,7 @@ InputSource operatorSource(const Scenario& scenario, const HandleLimits& limits,
 void takeSnapshot(const Simulation& sim, long steps, Snapshot& out) {
   out.steps = steps;
   out.telemetry = sim.telemetry();
-  const auto* world = dynamic_cast<const WorldSimulation*>(&sim);
-  out.has_world = world != nullptr;
-  if (!world) return;
-  const WorldState& s = world->state();
-  out.colon_q = s.colon.q;
-  out.scope_centreline_m = world->scopeCentreline();
-  out.scope_radius_m = world->model().scope.radius_m;
-  out.p_WTip_m = tipPosition(world->model().scope, s.scope);
-  out.R_WTip = s.scope.R_WS[0];
+  out.has_scene = sim.scene(out.scene);
 }
 
 PhysicsLoop::PhysicsLoop(Simulation& sim, const ScoreOptions& scoring, SessionWriter* writer, InputSource source,
@@ -126,11 +116,9 @@ PhysicsLoop::PhysicsLoop(Simulation& sim, const ScoreOptions& scoring, SessionWr
       source_(std::move(source)),
       options_(options),
       on_warning_(std::move(on_warning)),
-      dt_s_(options.dt_s) {
+      dt_s_(sim.dt_s()) {
   // The start input is what the simulation holds before any step.
   input_ = sim_.telemetry().input;
-  if (const auto* world = dynamic_cast<const WorldSimulation*>(&sim_); world && world->dt_s() != dt_s_)
-    throw std::invalid_argument("PhysicsLoop: options.dt_s differs from the simulation's time step");
   if (!(dt_s_ > 0) || !source_) throw std::invalid_argument("PhysicsLoop: needs dt_s > 0 and an input source");
 }
 

@@ -26,8 +26,6 @@
 
 namespace colosim {
 
-class WorldSimulation;
-
 /// What the operator asks for at one instant: how fast each handle input changes.
 struct HandleRates {
   double insertion_m_per_s = 0.0;         ///< + = push in, - = pull out [m/s]
@@ -107,29 +105,24 @@ using InputSource = std::function<HandleInput(long step, const HandleInput& prev
 /// The operator's source for a scenario: the scenario's script during its set-up (start
 /// kind "scripted": the first until_s seconds, e.g. forming the alpha loop), then the
 /// operator's rates integrated step by step. With `autopilot`, the whole script (a demo,
-/// and a moving session for smoke tests). `rates` is read at every step.
-InputSource operatorSource(const Scenario& scenario, const HandleLimits& limits, const SharedRates& rates,
-                           bool autopilot = false);
+/// and a moving session for smoke tests). `rates` is read at every step. dt_s: the time
+/// step of the simulation the source feeds (Simulation::dt_s) [s].
+InputSource operatorSource(const Scenario& scenario, double dt_s, const HandleLimits& limits,
+                           const SharedRates& rates, bool autopilot = false);
 
 /// What the draw thread needs of one state, copied out of the physics thread.
 struct Snapshot {
-  long steps = -1;         ///< steps done (0: the start state; -1: none yet)
-  Telemetry telemetry;     ///< of the last step (the start state's before any)
-  bool has_world = false;  ///< the fields below are set (a WorldSimulation)
-  Points colon_q;          ///< colon control points (3 x n) [m]
-  std::vector<Vec3> scope_centreline_m;  ///< from outside the anus to the tip [m]
-  double scope_radius_m = 0.0;           ///< [m]
-  Vec3 p_WTip_m = Vec3::Zero();          ///< scope tip [m]
-  Mat3 R_WTip = Mat3::Identity();        ///< tip segment frame (d1, d2 up, d3 forward)
+  long steps = -1;          ///< steps done (0: the start state; -1: none yet)
+  Telemetry telemetry;      ///< of the last step (the start state's before any)
+  bool has_scene = false;   ///< `scene` is set (the simulation has something to draw)
+  SceneView scene;
 };
-/// Fills `out` from a simulation (the world fields when it is a WorldSimulation).
+/// Fills `out` from a simulation (Simulation::scene).
 void takeSnapshot(const Simulation& sim, long steps, Snapshot& out);
 
 struct PhysicsLoopOptions {
-  /// The simulation's time step [s] (the scenario's dt_s; a WorldSimulation must agree).
-  double dt_s = 1e-3;
   /// Pace the steps on steady_clock, step k due at k dt after the start (sleep until
-  /// then); false: as fast as possible (tests, headless).
+  /// then; dt: the simulation's time step); false: as fast as possible (tests, headless).
   bool real_time = true;
   /// Behind the clock by more than this many steps: give up catching up, drop the lost
   /// time (the simulation then runs late against the wall clock) and say so once.
@@ -203,7 +196,7 @@ class PhysicsLoop {
   InputSource source_;
   PhysicsLoopOptions options_;
   std::function<void(const std::string&)> on_warning_;
-  double dt_s_;
+  double dt_s_;  ///< the simulation's time step [s]
 
   HandleInput input_;  ///< the input of the last step (the start input before any)
   long steps_ = 0;

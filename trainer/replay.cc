@@ -50,7 +50,7 @@ RunResult runScenario(const Scenario& scenario, Simulation& sim, SessionWriter* 
   if (hooks.on_frame && hooks.frame_every_steps > 0) hooks.on_frame(sim, 0);
   for (long k = 0; k < steps; ++k) {
     // The input of step k is the script at the step's start time k dt.
-    const HandleInput in = scriptedInput(scenario.script, static_cast<double>(k) * scenario.dt_s);
+    const HandleInput in = scriptedInput(scenario.script, static_cast<double>(k) * sim.dt_s());
     stepAndRecord(sim, in, k, scorer, writer, hooks);
   }
   RunResult r;

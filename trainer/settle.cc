@@ -6,32 +6,39 @@
 #include <vector>
 
 #include "core/colon_step.h"
+#include "trainer/start_state.h"
 
 namespace colosim {
 
-SettleSummary settleColon(const ColonModel& model, double duration_s, double dt_s) {
+SettleSummary settleColon(const WorldModel& world, double duration_s, double dt_s) {
+  const ColonModel& model = world.colon;
   SettleSummary out;
   out.n_control_points = model.n;
   out.length_m = model.length_m();
   out.duration_s = duration_s;
   out.dt_s = dt_s;
-  ColonState state = makeColonState(model);
-  out.energy_start_J = colonEnergy(model, state).total();
+  out.energy_start_J = colonEnergy(model, makeColonState(model)).total();
   const long steps = std::lround(duration_s / dt_s);
+  // Every block of kBlock steps (the last may be shorter): its time per step, and a stop
+  // on a non-finite state.
   constexpr int kBlock = 100;
   std::vector<double> block_us;
-  for (long done = 0; done < steps;) {
-    const long todo = std::min<long>(kBlock, steps - done);
-    const auto t0 = std::chrono::steady_clock::now();
-    for (long k = 0; k < todo; ++k) stepColon(model, state, dt_s);
-    const auto t1 = std::chrono::steady_clock::now();
-    block_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / todo);
-    done += todo;
-    if (!state.q.allFinite() || !state.v.allFinite()) {
-      out.finite = false;
-      break;
-    }
-  }
+  auto block_start = std::chrono::steady_clock::now();
+  long block_first = 0;
+  auto observe = [&](long done, const ColonState& s) {
+    if (done % kBlock != 0 && done != steps) return true;
+    const auto now = std::chrono::steady_clock::now();
+    block_us.push_back(std::chrono::duration<double, std::micro>(now - block_start).count() / (done - block_first));
+    block_start = now, block_first = done;
+    out.finite = s.q.allFinite() && s.v.allFinite();
+    return out.finite;
+  };
+  StartSpec spec;
+  spec.dt_s = dt_s;
+  spec.settle_s = duration_s;
+  StartState start = makeStartState(world, spec, observe);
+  ColonState& state = start.state.colon;
+  state.time_s = start.settled_clock_s;  // the summary's state is the settling's own, clock included
   out.steps = steps;
   if (!block_us.empty()) {
     std::nth_element(block_us.begin(), block_us.begin() + block_us.size() / 2, block_us.end());

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-#include "core/colon_model.h"
+#include "core/world.h"
 
 namespace colosim {
 
@@ -25,7 +25,8 @@ struct SettleSummary {
   uint64_t state_hash = 0;         ///< hashColonState at the end: equal hashes mean bit-identical runs
 };
 
-/// Simulates the colon from rest for duration_s at dt_s and summarises.
-SettleSummary settleColon(const ColonModel& model, double duration_s, double dt_s);
+/// Simulates the world's colon from rest for duration_s at dt_s (the settling of a start
+/// state, trainer/start_state.h, the scope out) and summarises.
+SettleSummary settleColon(const WorldModel& model, double duration_s, double dt_s);
 
 }  // namespace colosim

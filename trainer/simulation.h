@@ -10,11 +10,25 @@
 #include <vector>
 
 #include "core/handle_input.h"
+#include "core/spline.h"
 #include "trainer/telemetry.h"
 
 namespace colosim {
 
 struct Scenario;
+struct ColonModel;
+
+/// What a renderer draws of one state (render/renderer.h): the colon and the scope.
+struct SceneView {
+  /// The colon's model (radii, regions; its rest shape frames the global view). It does
+  /// not change while the simulation runs, so a copied SceneView may keep pointing at it.
+  const ColonModel* colon = nullptr;
+  Points colon_q;                        ///< colon control points (3 x n) [m]
+  std::vector<Vec3> scope_centreline_m;  ///< from outside the anus to the tip [m]
+  double scope_radius_m = 0.0;           ///< [m]
+  Vec3 p_WTip_m = Vec3::Zero();          ///< scope tip [m]
+  Mat3 R_WTip = Mat3::Identity();        ///< tip segment frame (d1, d2 up, d3 forward)
+};
 
 /// Something a step raised, recorded as a session event line (docs/file-formats.md).
 struct SimulationEvent {
@@ -25,8 +39,11 @@ struct SimulationEvent {
 class Simulation {
  public:
   virtual ~Simulation();
-  /// Advances one time step (the scenario's dt_s) with the given handle input.
+  /// Advances one time step of dt_s() with the given handle input.
   virtual void step(const HandleInput& in) = 0;
+  /// The time step [s], fixed when the simulation is built (from its start specification,
+  /// trainer/start_state.h): drivers pace, sample scripts and convert steps to time with it.
+  virtual double dt_s() const = 0;
   /// Simulated time [s].
   virtual double time_s() const = 0;
   /// 64-bit hash of the whole physical state: equal hashes mean bit-identical states.
@@ -35,6 +52,12 @@ class Simulation {
   virtual Telemetry telemetry() const = 0;
   /// Events raised by the last step (for example "solver_limited"), recorded in sessions.
   virtual std::vector<SimulationEvent> events() const { return {}; }
+  /// What to draw of the current state into `out`; false (out untouched) when this
+  /// simulation has nothing to draw (the colon alone, a test's fake).
+  virtual bool scene(SceneView& out) const {
+    (void)out;
+    return false;
+  }
 };
 
 /// Builds a simulation ready to run a scenario (its start state applied: for "settled",

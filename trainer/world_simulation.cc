@@ -15,6 +15,7 @@
 #include "trainer/colon_simulation.h"
 #include "trainer/json_position.h"
 #include "trainer/scenario.h"
+#include "trainer/start_state.h"
 
 namespace colosim {
 
@@ -42,57 +43,6 @@ ClosestPoint nearestAround(const Points& q, int tracked, const Vec3& x) {
   return best;
 }
 
-// The spline segments [first, last] of a region of the colon; first = -1 when the anatomy
-// has no such region.
-std::pair<int, int> regionSegments(const ColonModel& colon, const std::string& region) {
-  int first = -1, last = -1;
-  for (int j = 0; j + 1 < colon.n; ++j) {
-    if (colon.region_names[colon.segment_region[j]] != region) continue;
-    if (first < 0) first = j;
-    last = j;
-  }
-  return {first, last};
-}
-
-// The start state's colon shape (ScenarioStart::shape_region): the region's control points
-// placed along the uniform Catmull-Rom curve through `waypoints` (ends extrapolated),
-// at their rest arclength spacing scaled to the curve's length; velocities zero.
-void placeColonRegion(const ColonModel& colon, ColonState& s, const std::string& region,
-                      const std::vector<Vec3>& waypoints, const std::string& where) {
-  // The control points bounding the region's segments.
-  const auto [first, last_segment] = regionSegments(colon, region);
-  const int last = last_segment + 1;
-  if (first < 0) throw InputError(where + ": start.colon_shape.region: no region '" + region + "' in the anatomy");
-  const Vec3 p_first = s.q.col(first), p_last = s.q.col(last);
-  if ((waypoints.front() - p_first).norm() > 0.01 || (waypoints.back() - p_last).norm() > 0.01) {
-    char msg[256];
-    std::snprintf(msg, sizeof msg, "must start within 1 cm of (%.4f, %.4f, %.4f) and end within 1 cm of (%.4f, %.4f, %.4f) m",
-                  p_first.x(), p_first.y(), p_first.z(), p_last.x(), p_last.y(), p_last.z());
-    throw InputError(where + ": start.colon_shape.points_m: " + msg + " (the " + region + "'s ends)");
-  }
-  // The curve, densely sampled (Catmull-Rom through the waypoints, 64 samples a span).
-  const int m = static_cast<int>(waypoints.size());
-  Points w(3, m + 2);
-  for (int i = 0; i < m; ++i) w.col(i + 1) = waypoints[i];
-  w.col(0) = 2 * waypoints[0] - waypoints[1];
-  w.col(m + 1) = 2 * waypoints[m - 1] - waypoints[m - 2];
-  std::vector<Vec3> curve;
-  for (int seg = 1; seg < m; ++seg)
-    for (int k = 0; k < 64; ++k) curve.push_back(splinePoint(w, seg, k / 64.0));
-  curve.push_back(waypoints.back());
-  std::vector<double> arc(curve.size(), 0.0);
-  for (size_t i = 1; i < curve.size(); ++i) arc[i] = arc[i - 1] + (curve[i] - curve[i - 1]).norm();
-  const double rest_span = colon.s_rest_m(last) - colon.s_rest_m(first);
-  size_t i = 0;
-  for (int j = first; j <= last; ++j) {
-    const double target = arc.back() * (colon.s_rest_m(j) - colon.s_rest_m(first)) / rest_span;
-    while (i + 2 < curve.size() && arc[i + 1] < target) ++i;
-    const double f = std::clamp((target - arc[i]) / std::max(arc[i + 1] - arc[i], 1e-12), 0.0, 1.0);
-    s.q.col(j) = (1 - f) * curve[i] + f * curve[i + 1];
-    s.v.col(j).setZero();
-  }
-}
-
 }  // namespace
 
 WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const TensionLaw> law,
@@ -101,59 +51,21 @@ WorldSimulation::WorldSimulation(const Scenario& scenario, std::shared_ptr<const
 
 WorldSimulation::WorldSimulation(const Scenario& scenario, const Parameters& params,
                                  std::shared_ptr<const TensionLaw> law, const std::string& query_mode)
-    : dt_s_(scenario.dt_s) {
-  model_ = loadWorldModel(scenario.anatomy_path, params, std::move(law));
+    : WorldSimulation(loadWorldModel(scenario.anatomy_path, params, std::move(law)), startSpecOf(scenario),
+                      query_mode) {}
+
+WorldSimulation::WorldSimulation(WorldModel model, const StartSpec& start, const std::string& query_mode)
+    : model_(std::move(model)) {
   query_ = makeContactQuery(model_, query_mode);
-  state_ = makeWorldState(model_);
-  if (scenario.start.kind == "settled") {
-    // The colon settles under gravity with the scope out; the clock starts afterwards.
-    const long steps = std::lround(scenario.start.settle_s / dt_s_);
-    for (long k = 0; k < steps; ++k) stepColon(model_.colon, state_.colon, dt_s_);
-    state_.colon.time_s = 0.0;
-  }
-  if (!scenario.start.shape_region.empty()) {
-    try {
-      placeColonRegion(model_.colon, state_.colon, scenario.start.shape_region, scenario.start.shape_points_m,
-                       scenario.file);
-    } catch (const InputError& e) {  // name the line of the key in the scenario file
-      throw scenarioError(scenario.file, e.what());
-    }
-  }
-  // Abdominal pressure: each named region's spline segments (an unknown region is refused
-  // here, naming the file, line and key, as a colon shape's is).
-  for (size_t i = 0; i < scenario.abdominal_pressure.size(); ++i) {
-    const AbdominalPressure& a = scenario.abdominal_pressure[i];
-    Pressure p;
-    p.from_s = a.from_s, p.to_s = a.to_s, p.ramp_s = a.ramp_s;
-    p.region.stiffness_N_per_m2 = a.stiffness_N_per_m2;
-    p.region.damping_Ns_per_m2 = a.damping_Ns_per_m2;
-    std::tie(p.region.first_segment, p.region.last_segment) = regionSegments(model_.colon, a.region);
-    if (p.region.first_segment < 0) {
-      const std::string key = "abdominal_pressure[" + std::to_string(i) + "].region";
-      throw scenarioError(scenario.file, scenario.file + ": " + key + ": no region '" + a.region + "' in the anatomy");
-    }
-    pressure_.push_back(p);
-  }
-  for (const Pressure& p : pressure_) {
-    state_.support.push_back(p.region);
-    state_.support.back().stiffness_N_per_m2 = state_.support.back().damping_Ns_per_m2 = 0;
-  }
-  init(scenario.script.empty() ? HandleInput() : scenario.script.front().input);
+  restart(start);
 }
 
-WorldSimulation::WorldSimulation(WorldModel model, double dt_s, const HandleInput& start,
-                                 const std::string& query_mode)
-    : model_(std::move(model)), dt_s_(dt_s) {
-  query_ = makeContactQuery(model_, query_mode);
-  state_ = makeWorldState(model_);
-  init(start);
-}
-
-void WorldSimulation::init(const HandleInput& start) {
-  // A script that starts with the scope already in: thread it along the colon there
-  // (pushing it in within one step would be a 1 kHz jump).
-  if (start.insertion_m > 0) threadScopeAlongColon(model_, state_, start.insertion_m, start.rotation_rad);
-  state_.scope.input = clampHandleInput(model_.scope, start);
+void WorldSimulation::restart(const StartSpec& start) {
+  dt_s_ = start.dt_s;
+  StartState s = makeStartState(model_, start);
+  state_ = std::move(s.state);
+  pressure_ = std::move(s.pressure);
+  sigmoid_first_ = sigmoid_last_ = -1;
   for (int j = 0; j + 1 < model_.colon.n; ++j) {
     if (model_.colon.region_names[model_.colon.segment_region[j]] != "sigmoid") continue;
     if (sigmoid_first_ < 0) sigmoid_first_ = j;
@@ -167,7 +79,7 @@ void WorldSimulation::init(const HandleInput& start) {
 
 void WorldSimulation::setSupport(double t_s) {
   for (size_t i = 0; i < pressure_.size(); ++i) {
-    const Pressure& p = pressure_[i];
+    const PressureSchedule& p = pressure_[i];
     RegionSupport& r = state_.support[i];
     const double f = pressureRamp(t_s, p.from_s, p.to_s, p.ramp_s);
     // The hand holds the region where it lies when the pressing begins (its first step).
@@ -242,6 +154,16 @@ std::vector<Vec3> WorldSimulation::scopeCentreline() const {
   line.push_back(s.p_W[base] + 0.5 * h * s.R_WS[base].col(2));
   for (int k = s.inside - 1; k >= 0; --k) line.push_back(s.p_W[k] + 0.5 * h * s.R_WS[k].col(2));
   return line;
+}
+
+bool WorldSimulation::scene(SceneView& out) const {
+  out.colon = &model_.colon;
+  out.colon_q = state_.colon.q;
+  out.scope_centreline_m = scopeCentreline();
+  out.scope_radius_m = model_.scope.radius_m;
+  out.p_WTip_m = tipPosition(model_.scope, state_.scope);
+  out.R_WTip = state_.scope.R_WS[0];
+  return true;
 }
 
 void WorldSimulation::measure() {

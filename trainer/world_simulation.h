@@ -10,6 +10,7 @@
 #include "collision/contact_query.h"
 #include "core/world.h"
 #include "trainer/simulation.h"
+#include "trainer/start_state.h"
 
 namespace colosim {
 
@@ -28,10 +29,15 @@ class WorldSimulation : public Simulation {
   /// model an identification fitted, identify/insertion/replay.h organParameters).
   WorldSimulation(const Scenario& scenario, const Parameters& params, std::shared_ptr<const TensionLaw> law = nullptr,
                   const std::string& query_mode = "fcl");
-  /// The same from a world model built elsewhere (tests, identification).
-  WorldSimulation(WorldModel model, double dt_s, const HandleInput& start, const std::string& query_mode = "fcl");
+  /// The same from a world model built elsewhere (identification) and a start
+  /// specification (trainer/start_state.h).
+  WorldSimulation(WorldModel model, const StartSpec& start, const std::string& query_mode = "fcl");
+  /// Back to a start state: the state, time step and pressures `start` gives (the model,
+  /// the contact query and the solver-limit events carry on).
+  void restart(const StartSpec& start);
 
   void step(const HandleInput& in) override;
+  double dt_s() const override { return dt_s_; }
   double time_s() const override { return state_.colon.time_s; }
   uint64_t stateHash() const override { return hashWorldState(state_); }
   Telemetry telemetry() const override { return telemetry_; }
@@ -40,11 +46,12 @@ class WorldSimulation : public Simulation {
   /// run's last step (detail: its length and the largest values asked); the old
   /// "solver_failed_colon"/"solver_failed_scope" at every failed solve. docs/hardening.md.
   std::vector<SimulationEvent> events() const override { return events_; }
+  /// The colon's control points, the scope's centreline, radius and tip frame.
+  bool scene(SceneView& out) const override;
 
   const WorldModel& model() const { return model_; }
   const WorldState& state() const { return state_; }
   WorldState& mutableState() { return state_; }
-  double dt_s() const { return dt_s_; }
 
   /// The scope's centreline from just outside the anus to the tip [m] (for drawing).
   std::vector<Vec3> scopeCentreline() const;
@@ -53,7 +60,6 @@ class WorldSimulation : public Simulation {
   static constexpr int kPatchSectors = 8;
 
  private:
-  void init(const HandleInput& start);
   void measure();
 
   WorldModel model_;
@@ -69,11 +75,7 @@ class WorldSimulation : public Simulation {
   double run_force_N_ = 0, run_scope_speed_ = 0, run_scope_spin_ = 0, run_colon_speed_ = 0;
   double run_handle_force_N_ = 0, run_handle_torque_Nm_ = 0;  // largest |handle force, torque| asked in the run
   /// The scenario's abdominal pressure, resolved to spline segments (core/abdominal_pressure.h).
-  struct Pressure {
-    RegionSupport region;  ///< full densities
-    double from_s = 0, to_s = 0, ramp_s = 0;
-  };
-  std::vector<Pressure> pressure_;
+  std::vector<PressureSchedule> pressure_;
   void setSupport(double t_s);
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]

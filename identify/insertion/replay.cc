@@ -3,9 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/colon_step.h"
 #include "core/input_error.h"
-#include "core/scope_step.h"
+#include "trainer/start_state.h"
 #include "trainer/world_simulation.h"
 
 namespace colosim {
@@ -105,29 +104,27 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
     throw InputError(setup.scenario.file + ": abdominal_pressure: not supported by the organ-level replay (identification)");
   WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
   const double dt = setup.dt_s;
-  const ScenarioStart& start = setup.scenario.start;
-  // Start state as WorldSimulation builds it from the scenario: settle the colon with the
-  // scope out, then thread the scope to the first input.
-  WorldSimulation sim(std::move(model), dt, HandleInput(), "fcl");
-  WorldState& st = sim.mutableState();
-  if (start.kind == "settled") {
-    const long steps = std::lround(start.settle_s / dt);
-    for (long k = 0; k < steps; ++k) stepColon(sim.model().colon, st.colon, dt);
-    st.colon.time_s = 0.0;
-  }
-  double t0 = 0.0;
-  if (start.kind == "scripted") {
-    // The scenario's set-up part is simulated first; the recording starts where it ends.
-    const HandleInput first = setup.scenario.script.front().input;
-    if (first.insertion_m > 0) threadScopeAlongColon(sim.model(), st, first.insertion_m, first.rotation_rad);
-    st.scope.input = clampHandleInput(sim.model().scope, first);
-    const long steps = std::lround(start.until_s / dt);
-    for (long k = 1; k <= steps; ++k) sim.step(scriptedInput(setup.scenario.script, k * dt));
-    t0 = st.colon.time_s;
-  } else {
-    const HandleInput first = rec.input.front();
-    if (first.insertion_m > 0) threadScopeAlongColon(sim.model(), st, first.insertion_m, first.rotation_rad);
-    st.scope.input = clampHandleInput(sim.model().scope, first);
+  // The scenario's start state (trainer/start_state.h), the scope threaded to the
+  // recording's first input, or for a scripted start to the script's, whose set-up part
+  // is simulated first (the recording starts where it ends).
+  StartSpec start = startSpecOf(setup.scenario);
+  start.dt_s = dt;
+  const bool scripted = setup.scenario.start.kind == "scripted";
+  if (!scripted) start.first_input = rec.input.front();
+  // Rows before the first step read the model at rest, before its start state is applied
+  // (as the shipped recordings were made).
+  StartSpec rest;
+  rest.dt_s = dt;
+  WorldSimulation sim(std::move(model), rest, "fcl");
+  Telemetry tel = sim.telemetry();
+  sim.restart(start);
+  const WorldState& st = sim.state();
+  if (scripted) {
+    const long steps = std::lround(setup.scenario.start.until_s / dt);
+    for (long k = 1; k <= steps; ++k) {
+      sim.step(scriptedInput(setup.scenario.script, k * dt));
+      tel = sim.telemetry();
+    }
   }
 
   Prediction out;
@@ -137,7 +134,6 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
   out.tip_m.resize(n);
   out.loop_turns.resize(n);
   long step = 0;
-  Telemetry tel = sim.telemetry();
   for (size_t k = 0; k < n; ++k) {
     // Steps whose end time reaches the row's time (recording time; 1 ns tolerance).
     while ((step * dt) < rec.time_s[k] - 1e-9) {
@@ -152,7 +148,6 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
     out.loop_turns[k] = tel.loop_turns;
     if (!std::isfinite(tel.handle_force_N) || !std::isfinite(tel.handle_torque_Nm)) out.ok = false;
   }
-  (void)t0;
   return out;
 }
 

@@ -33,6 +33,7 @@ class FakeSimulation : public Simulation {
     if (steps_ == 150) return {{"solver_limited", ""}};
     return {};
   }
+  double dt_s() const override { return dt_s_; }
   double time_s() const override { return time_s_; }
   uint64_t stateHash() const override {
     const double vals[4] = {x_, v_, chaos_, time_s_};

@@ -124,7 +124,7 @@ TEST(OperatorSource, ScriptedSetUpThenTheOperator) {
   HandleRates r;
   r.insertion_m_per_s = 0.05;
   rates.set(r);
-  const InputSource src = operatorSource(sc, HandleLimits(), rates);
+  const InputSource src = operatorSource(sc, sc.dt_s, HandleLimits(), rates);
   // Set-up: the script at k dt (dt = 10 ms, 60 steps before 0.6 s).
   for (long k : {0L, 30L, 51L, 59L}) {
     const HandleInput a = src(k, HandleInput()), b = scriptedInput(sc.script, k * sc.dt_s);
@@ -139,7 +139,7 @@ TEST(OperatorSource, ScriptedSetUpThenTheOperator) {
   EXPECT_NEAR(op.insertion_m, 0.3 + 0.05 * sc.dt_s, 1e-15);
   EXPECT_EQ(op.knob_updown_rad, 0.2);
   // Autopilot: the script throughout.
-  const InputSource auto_src = operatorSource(sc, HandleLimits(), rates, /*autopilot=*/true);
+  const InputSource auto_src = operatorSource(sc, sc.dt_s, HandleLimits(), rates, /*autopilot=*/true);
   EXPECT_EQ(auto_src(130, prev).insertion_m, scriptedInput(sc.script, 1.3).insertion_m);
 }
 
@@ -188,7 +188,6 @@ TEST(PhysicsLoop, HeadlessWorldSessionReplaysBitIdentically) {
       return in;
     };
     PhysicsLoopOptions opt;
-    opt.dt_s = sc.dt_s;
     opt.real_time = false;
     opt.max_steps = 1200;
     PhysicsLoop loop(sim, sc.scoring, &writer, source, opt);
@@ -201,11 +200,11 @@ TEST(PhysicsLoop, HeadlessWorldSessionReplaysBitIdentically) {
   }
   EXPECT_EQ(recorded.steps, 1200);
   EXPECT_EQ(snap.steps, 1200);
-  EXPECT_TRUE(snap.has_world);
+  EXPECT_TRUE(snap.has_scene);
   EXPECT_EQ(snap.telemetry.input.insertion_m, insertion_m.back());
   // The scope went in (0.6 s at 3 cm/s, 0.2 s of it at 9 cm/s) and the tip moved inside.
   EXPECT_GT(insertion_m[650], 0.02);
-  EXPECT_GT(snap.scope_centreline_m.size(), 2u);
+  EXPECT_GT(snap.scene.scope_centreline_m.size(), 2u);
 
   const ReplayPlan plan = planReplay(path);
   EXPECT_EQ(plan.session.header.mode, "interactive");
@@ -238,9 +237,8 @@ TEST(PhysicsLoop, RatesChangedFromAnotherThreadAreRecordedAsUsed) {
     SessionWriter writer(path, header);
     SharedRates rates;
     PhysicsLoopOptions opt;
-    opt.dt_s = sc.dt_s;
     opt.max_steps = 250;  // 2.5 s at dt = 10 ms, paced in real time
-    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, HandleLimits(), rates), opt);
+    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, sim.dt_s(), HandleLimits(), rates), opt);
     loop.start();
     std::mt19937 rng(42);
     std::uniform_int_distribution<int> coin(0, 1);
@@ -287,11 +285,10 @@ TEST(PhysicsLoop, FallingBehindDropsTimeAndSaysSoOnce) {
   SlowSimulation sim(sc);
   SharedRates rates;
   PhysicsLoopOptions opt;
-  opt.dt_s = sc.dt_s;
   opt.max_steps = 60;
   opt.max_catch_up_steps = 10;
   std::vector<std::string> warnings;
-  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, HandleLimits(), rates), opt,
+  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, sim.dt_s(), HandleLimits(), rates), opt,
                    [&](const std::string& m) { warnings.push_back(m); });
   loop.run();
   const PhysicsLoopResult r = loop.finish();
@@ -324,11 +321,10 @@ TEST(PhysicsLoop, AStepErrorOnTheLoopThreadReachesTheCallerWithoutAnEndLine) {
   FailingSimulation sim(sc);
   SharedRates rates;
   PhysicsLoopOptions opt;
-  opt.dt_s = sc.dt_s;
   opt.real_time = false;
   {
     SessionWriter writer(path, sessionHeaderFor(sc, "test"));
-    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, HandleLimits(), rates, true), opt);
+    PhysicsLoop loop(sim, sc.scoring, &writer, operatorSource(sc, sim.dt_s(), HandleLimits(), rates, true), opt);
     loop.start();
     while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     EXPECT_THROW(loop.finish(), std::runtime_error);
@@ -346,16 +342,15 @@ TEST(PhysicsLoop, SnapshotsOnlyWhenNewer) {
   test::FakeSimulation sim(sc);
   SharedRates rates;
   PhysicsLoopOptions opt;
-  opt.dt_s = sc.dt_s;
   opt.real_time = false;
   opt.max_steps = 7;
-  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, HandleLimits(), rates, true), opt);
+  PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, sim.dt_s(), HandleLimits(), rates, true), opt);
   Snapshot s;
   EXPECT_FALSE(loop.latest(s));  // nothing published before the loop runs
   loop.run();
   ASSERT_TRUE(loop.latest(s));
   EXPECT_EQ(s.steps, 7);
-  EXPECT_FALSE(s.has_world);
+  EXPECT_FALSE(s.has_scene);
   EXPECT_NEAR(s.telemetry.time_s, 7 * sc.dt_s, 1e-12);
   EXPECT_FALSE(loop.latest(s));  // nothing newer
   loop.finish();

@@ -1,6 +1,6 @@
 // `colosim score` and `colosim replay` end to end: exit codes, messages, JSON output.
 // Sessions are recorded here with the colon + scope simulation (trainer/world_simulation.h),
-// which is what the command simulates (trainer/app/simulation_factory.cc).
+// which is what the command simulates (app/cmd_score.cc: makeWorldSimulation).
 #include <array>
 #include <cstdio>
 #include <filesystem>

@@ -5,11 +5,11 @@
 #include <fstream>
 #include <iostream>
 
-#include "identify/tension/identify.h"
-#include "identify/tension/report.h"
+#include "app/commands.h"
 #include "identify/insertion/identify.h"
 #include "identify/insertion/report.h"
-#include "trainer/app/commands.h"
+#include "identify/tension/identify.h"
+#include "identify/tension/report.h"
 #include "trainer/tension_law_file.h"
 
 namespace colosim::app {

@@ -9,8 +9,8 @@
 #include <memory>
 #include <optional>
 
-#include "trainer/app/commands.h"
-#include "trainer/app/simulation_factory.h"
+#include "app/commands.h"
+#include "app/options.h"
 #include "trainer/progress.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
@@ -47,18 +47,13 @@ int runSettle(const RunOptions& o) {
   const Parameters params = loadParameters(o.params.empty() ? assetPath("params/default.json") : o.params);
   std::shared_ptr<const TensionLaw> law;
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
-  const ColonModel model =
-      loadColonModel(o.anatomy.empty() ? assetPath("anatomy/adult.json") : o.anatomy, params, law);
-  const SettleSummary s = settleColon(model, o.duration_s > 0 ? o.duration_s : 10.0, o.dt_s);
+  const WorldModel world =
+      loadWorldModel(o.anatomy.empty() ? assetPath("anatomy/adult.json") : o.anatomy, params, law);
+  const ColonModel& model = world.colon;
+  const SettleSummary s = settleColon(world, o.duration_s > 0 ? o.duration_s : 10.0, o.dt_s);
   std::printf("colosim run settle: adult colon, %d control points over %.3f m, %.1f s at dt = %.4f s (%ld steps)\n",
               s.n_control_points, s.length_m, s.duration_s, s.dt_s, s.steps);
-  if (law || params.tension_law) {
-    std::printf("  tension law          %s from %s:", model.tension_law->name().c_str(),
-                law ? o.tension_law.c_str() : params.file.c_str());
-    for (const LawParameter& p : model.tension_law->parameters())
-      std::printf(" %s = %.4g %s;", p.name.c_str(), p.value, p.unit.c_str());
-    std::printf("\n");
-  }
+  if (law || params.tension_law) printTensionLaw(*model.tension_law, law ? o.tension_law : params.file);
   std::printf("  energy at start      %10.5f J\n", s.energy_start_J);
   std::printf("  energy at end        %10.5f J (kinetic %.3e J)\n", s.energy_end_J, s.kinetic_end_J);
   std::printf("  max displacement     %10.2f mm (in the %s)\n", 1e3 * s.max_displacement_m,
@@ -70,14 +65,6 @@ int runSettle(const RunOptions& o) {
   return s.finite ? 0 : 1;
 }
 
-
-void printScores(const nlohmann::json& scores) {
-  std::printf("  scores:\n");
-  for (auto it = scores.begin(); it != scores.end(); ++it) {
-    if (it.value().is_object() || it.value().is_array()) continue;
-    std::printf("    %-34s %s\n", it.key().c_str(), it.value().dump().c_str());
-  }
-}
 
 int runScripted(const RunOptions& o) {
   // Every input is read and checked before any output is opened.
@@ -94,22 +81,15 @@ int runScripted(const RunOptions& o) {
   // wall_friction override gives way to the file's friction_coefficient.
   std::optional<double> dropped_friction;
   if (!o.params.empty()) dropped_friction = useParameterFile(scenario, o.params);
-  int width = 0, height = 0;
-  char extra = 0;
-  if (std::sscanf(o.size.c_str(), "%dx%d%c", &width, &height, &extra) != 2 || width < 16 || height < 16 ||
-      width > 8192 || height > 8192)
-    throw InputError("--size: expected WxH in pixels (16..8192), got '" + o.size + "'");
+  const SizePx size = parseSize(o.size, 16);
   std::shared_ptr<const TensionLaw> law;
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
   if (!o.trace.empty() && std::filesystem::exists(o.trace))
     throw InputError(o.trace + ": exists (--trace never overwrites a file)");
-  if (!o.frames.empty()) {
-    std::error_code ec;
-    if (std::filesystem::exists(o.frames, ec) && !std::filesystem::is_empty(o.frames, ec))
-      throw InputError(o.frames + ": exists and is not empty (frames never overwrite files)");
-  }
-  const long steps = o.duration_s > 0 ? std::lround(o.duration_s / scenario.dt_s) : scenario.steps();
+  if (!o.frames.empty()) checkFramesDir(o.frames);
   WorldSimulation sim(scenario, law, o.query);
+  const double dt_s = sim.dt_s();
+  const long steps = o.duration_s > 0 ? std::lround(o.duration_s / dt_s) : scenario.steps();
 
   std::unique_ptr<SessionWriter> writer;
   if (!o.record.empty()) writer = std::make_unique<SessionWriter>(o.record, sessionHeaderFor(scenario, COLOSIM_VERSION));
@@ -131,7 +111,7 @@ int runScripted(const RunOptions& o) {
     std::fprintf(trace.get(),
                  "time_s,insertion_m,rotation_rad,handle_force_N,handle_torque_Nm,wall_force_peak_N,"
                  "tip_x_m,tip_y_m,tip_z_m,tip_to_caecum_m,tip_arclength_m,mesentery_stretch,loop_turns\n");
-    const long every = std::max(1L, std::lround(1.0 / (o.trace_hz * scenario.dt_s)));
+    const long every = std::max(1L, std::lround(1.0 / (o.trace_hz * dt_s)));
     long n = 0;
     hooks.on_step = [&, every, n, record = hooks.on_step](const Telemetry& t) mutable {
       record(t);
@@ -142,11 +122,7 @@ int runScripted(const RunOptions& o) {
                    t.tip_to_caecum_m, t.tip_arclength_m, t.mesentery_stretch, t.loop_turns);
     };
   }
-  if (!o.frames.empty()) {
-    std::filesystem::create_directories(o.frames);
-    hooks.on_frame = makeFrameWriter(o.frames, o.view, width, height);
-    hooks.frame_every_steps = std::max(1L, std::lround(1.0 / (o.fps * scenario.dt_s)));
-  }
+  if (!o.frames.empty()) addFrames(hooks, o.frames, o.view, size, o.fps, dt_s);
   const RunResult r = runScenario(scenario, sim, writer.get(), hooks, steps);
   bar.finish();
   // The solvers could not keep up somewhere: say so (the session has the events).
@@ -164,8 +140,8 @@ int runScripted(const RunOptions& o) {
     return 0;
   }
   const Telemetry t = sim.telemetry();
-  std::printf("colosim run %s: %ld steps (%.3f s at dt = %g s)\n", scenario.name.c_str(), r.steps,
-              r.steps * scenario.dt_s, scenario.dt_s);
+  std::printf("colosim run %s: %ld steps (%.3f s at dt = %g s)\n", scenario.name.c_str(), r.steps, r.steps * dt_s,
+              dt_s);
   if (!o.params.empty()) {
     std::printf("  parameters           %s: wall friction %.4g", o.params.c_str(),
                 sim.model().contact.friction_coefficient);
@@ -173,13 +149,8 @@ int runScripted(const RunOptions& o) {
     std::printf(", colon bending %.4g N m^2, lifter stiffening %.4g 1/m^2\n", sim.model().colon.bending_EI_Nm2,
                 sim.model().colon.mesentery_stiffening_per_m2);
   }
-  if (sim.model().colon.tension_law->internalSize() > 0 || !o.tension_law.empty()) {
-    std::printf("  tension law          %s from %s:", sim.model().colon.tension_law->name().c_str(),
-                o.tension_law.empty() ? o.params.c_str() : o.tension_law.c_str());
-    for (const LawParameter& p : sim.model().colon.tension_law->parameters())
-      std::printf(" %s = %.4g %s;", p.name.c_str(), p.value, p.unit.c_str());
-    std::printf("\n");
-  }
+  if (sim.model().colon.tension_law->internalSize() > 0 || !o.tension_law.empty())
+    printTensionLaw(*sim.model().colon.tension_law, o.tension_law.empty() ? o.params : o.tension_law);
   std::printf("  insertion at end     %8.3f m (tip %.3f m from the caecal pole)\n", t.input.insertion_m,
               t.tip_to_caecum_m);
   std::printf("  handle force         peak push %.2f N, peak pull %.2f N, peak torque %.3f N m\n", peak_push,

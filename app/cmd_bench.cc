@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "bench/registry.h"
-#include "trainer/app/commands.h"
+#include "app/commands.h"
 #include "trainer/strict_json.h"
 
 namespace colosim::app {

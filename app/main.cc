@@ -1,7 +1,7 @@
 // colosim: a colonoscopy simulator. A thin main: the work is in the libraries.
 #include <iostream>
 
-#include "trainer/app/commands.h"
+#include "app/commands.h"
 #include "trainer/strict_json.h"
 
 int main(int argc, char** argv) {

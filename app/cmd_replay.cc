@@ -5,11 +5,12 @@
 #include <cmath>
 #include <iostream>
 
-#include "trainer/app/commands.h"
-#include "trainer/app/simulation_factory.h"
+#include "app/commands.h"
+#include "app/options.h"
 #include "trainer/progress.h"
 #include "trainer/replay.h"
 #include "trainer/strict_json.h"
+#include "trainer/world_simulation.h"
 
 namespace colosim::app {
 
@@ -27,36 +28,22 @@ struct ReplayOptions {
 int runReplay(const ReplayOptions& o) {
   // Every input first: the session and its scenario, the frame options, the output folder.
   const ReplayPlan plan = planReplay(o.session);
-  int width = 0, height = 0;
-  char tail = 0;
-  if (std::sscanf(o.size.c_str(), "%dx%d%c", &width, &height, &tail) != 2 || width < 16 || height < 16 ||
-      width > 8192 || height > 8192)
-    throw InputError("--size: expected WxH in pixels (16..8192), got '" + o.size + "'");
-  FrameWriter frames;
-  if (!o.frames.empty()) {
-    std::error_code ec;
-    if (std::filesystem::exists(o.frames, ec) && !std::filesystem::is_empty(o.frames, ec))
-      throw InputError(o.frames + ": exists and is not empty (frames never overwrite files)");
-    frames = makeFrameWriter(o.frames, o.view, width, height);
-    if (!frames) throw std::runtime_error("--frames: this build has no renderer to draw frames with");
-  }
+  const SizePx size = parseSize(o.size, 16);
+  if (!o.frames.empty()) checkFramesDir(o.frames);
   for (const std::string& w : plan.warnings) std::cerr << "colosim: warning: " << w << "\n";
   if (plan.session.truncated) std::cerr << "colosim: " << plan.session.message << "\n";
 
-  std::unique_ptr<Simulation> sim = simulationFactory()(plan.scenario);
+  std::unique_ptr<Simulation> sim = makeWorldSimulation(plan.scenario);
+  const double dt_s = sim->dt_s();
   ProgressBar bar("replay", plan.session.steps, stderrIsTerminal());
   RunHooks hooks;
   hooks.on_progress = [&](long done) { bar.update(done); };
-  if (frames) {
-    if (!o.frames.empty()) std::filesystem::create_directories(o.frames);
-    hooks.on_frame = frames;
-    hooks.frame_every_steps = std::max(1L, std::lround(1.0 / (o.fps * plan.scenario.dt_s)));
-  }
+  if (!o.frames.empty()) addFrames(hooks, o.frames, o.view, size, o.fps, dt_s);
   const ReplayResult r = replay(plan, *sim, hooks);
   bar.finish();
 
   std::printf("colosim replay %s: scenario %s, %ld steps (%.3f s at dt = %g s)%s\n", o.session.c_str(),
-              plan.session.header.scenario.c_str(), r.steps, r.steps * plan.scenario.dt_s, plan.scenario.dt_s,
+              plan.session.header.scenario.c_str(), r.steps, r.steps * dt_s, dt_s,
               r.truncated ? ", TRUNCATED" : "");
   std::printf("  final state hash     %s\n", hashToHex(r.final_state_hash).c_str());
   if (r.final_hash_checked) std::printf("  recorded hash        %s\n", hashToHex(plan.session.final_state_hash).c_str());

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <iostream>
 
-#include "trainer/app/commands.h"
-#include "trainer/app/simulation_factory.h"
+#include "app/commands.h"
 #include "trainer/progress.h"
 #include "trainer/replay.h"
 #include "trainer/strict_json.h"
+#include "trainer/world_simulation.h"
 
 namespace colosim::app {
 
@@ -47,7 +47,7 @@ int runScore(const ScoreCommandOptions& o) {
   constexpr long kBarUnits = 1000;
   ProgressBar bar("score", kBarUnits, stderrIsTerminal());
   const std::vector<ReplayResult> results =
-      replaySessions(o.sessions, simulationFactory(), o.threads,
+      replaySessions(o.sessions, makeWorldSimulation, o.threads,
                      [&](long done, long total) { bar.update(done * kBarUnits / std::max(total, 1L)); });
   bar.finish();
   nlohmann::json all = nlohmann::json::array();
