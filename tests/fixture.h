@@ -1,7 +1,9 @@
 // Shared helpers for colosim's tests: paths of the shipped assets and of temporary files.
 #pragma once
 
+#include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -31,6 +33,25 @@ class TempDir {
  private:
   std::string path_;
 };
+
+/// What a command printed on stdout and how it exited.
+struct CommandResult {
+  int code = -1;    ///< exit status (-1: did not exit normally)
+  std::string out;  ///< stdout (and whatever the command line redirects into it)
+};
+
+/// Runs `command_line` through the shell (with its own redirections, e.g. "2>&1").
+inline CommandResult runCommand(const std::string& command_line) {
+  CommandResult r;
+  FILE* p = popen(command_line.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t got;
+  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
 
 inline std::string readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -20,22 +20,10 @@
 namespace colosim {
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout only
-};
+using Result = test::CommandResult;
 
-Result run(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+// The command's stdout; its stderr is dropped.
+Result run(const std::string& args) { return test::runCommand(std::string(COLOSIM_EXE) + " " + args + " 2>/dev/null"); }
 
 const nlohmann::json& golden() {
   static const nlohmann::json g =

@@ -10,21 +10,11 @@
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
+using Result = colosim::test::CommandResult;
 
+// stdout and stderr together.
 Result run(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return colosim::test::runCommand(std::string(COLOSIM_EXE) + " " + args + " 2>&1");
 }
 
 TEST(Cli, HelpWorksEverywhere) {

@@ -18,22 +18,14 @@
 namespace colosim {
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout
+struct Result : test::CommandResult {
   std::string err;  // stderr
 };
 
 Result run(const std::string& args, const test::TempDir& dir) {
-  Result r;
   const std::string err_file = dir.file("stderr.txt");
-  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + " 2>" + err_file;
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  Result r;
+  static_cast<test::CommandResult&>(r) = test::runCommand(std::string(COLOSIM_EXE) + " " + args + " 2>" + err_file);
   r.err = test::readFile(err_file);
   return r;
 }

@@ -14,21 +14,11 @@
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out;  // stdout (and stderr when asked)
-};
+using Result = colosim::test::CommandResult;
 
+// stdout, and stderr too when asked.
 Result run(const std::string& args, bool with_stderr = true) {
-  Result r;
-  const std::string cmd = std::string(COLOSIM_EXE) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), got);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return colosim::test::runCommand(std::string(COLOSIM_EXE) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null"));
 }
 
 const std::string kSample1 = colosim::test::asset("measurements/tension_fig8_sample1.csv");
