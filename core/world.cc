@@ -80,16 +80,39 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
     sc.w_W[k].setZero();
     if (k >= sc.inside) kinematicPose(scope, k, depth, rotation_rad, &sc.p_W[k], &sc.R_WS[k]);
   }
+  // The joints lie on the centreline, each one chord of exactly h after the one before it,
+  // from the distal end of the first segment outside (on the entry axis, at the anus) to
+  // the tip: consecutive segments meet, so the joints start closed. (Segments centred on
+  // chords of arclength h were shorter than h apart and overlapped at every bend: a
+  // start-up kick of ~384 N in the joints.) The tip therefore lies a little deeper along
+  // the colon than the insertion, by what the bends take.
+  Vec3 a = sc.p_W[sc.inside] + 0.5 * scope.h_m * sc.R_WS[sc.inside].col(2);
+  double arc_a = depth - sc.inside * scope.h_m;  // arclength of the centreline point nearest a [m]
   for (int k = sc.inside - 1; k >= 0; --k) {
-    const double s_prox = depth - (k + 1) * scope.h_m, s_dist = depth - k * scope.h_m;
-    const Vec3 a = pointAt(s_prox), b = pointAt(s_dist);
-    const Vec3 axis = (b - a).normalized();
+    // The first arclength past arc_a whose centreline point is h from a: march in eighths
+    // of h, then bisect (lo stays nearer than h, hi at h or beyond).
+    const double step = 0.125 * scope.h_m;
+    double lo = arc_a, hi = arc_a;
+    while (hi < s_at.back() && (pointAt(hi) - a).norm() < scope.h_m) {
+      lo = hi;
+      hi = std::min(hi + step, s_at.back());
+    }
+    if ((pointAt(hi) - a).norm() >= scope.h_m)
+      for (int it = 0; it < 50; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        ((pointAt(mid) - a).norm() < scope.h_m ? lo : hi) = mid;
+      }
+    const Vec3 d = pointAt(hi) - a;
+    const Vec3 axis = d.norm() > 1e-12 ? Vec3(d / d.norm()) : Vec3(R.col(2));
+    const Vec3 b = a + scope.h_m * axis;
     const Vec3 prev = R.col(2);
     const Vec3 c = prev.cross(axis);
     const double sn = c.norm(), cs = prev.dot(axis);
     if (sn > 1e-12) R = expSO3(c / sn * std::atan2(sn, cs)) * R;
     sc.R_WS[k] = R;
     sc.p_W[k] = 0.5 * (a + b);
+    a = b;
+    arc_a = hi;
   }
   for (WallTrack& t : s.track) t = WallTrack();
 }

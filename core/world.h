@@ -71,6 +71,9 @@ inline Vec3 interactionPoint(const ScopeModel& m, const ScopeState& s, int k, in
 /// Places the scope along the colon's current centreline from the anus to depth
 /// insertion_m (clamped to the colon's length), at rest, with the given handle rotation:
 /// a start state "inserted to depth L" without simulating the insertion. Tracks are reset.
+/// The joints are closed: each segment is a chord of length h of the centreline, from the
+/// first segment outside to the tip. The bent scope is not yet held by the wall: relax it
+/// before use (trainer/start_state.h).
 void threadScopeAlongColon(const WorldModel& model, WorldState& state, double insertion_m,
                            double rotation_rad = 0.0);
 

@@ -36,7 +36,7 @@ SettleSummary settleColon(const WorldModel& world, double duration_s, double dt_
   StartSpec spec;
   spec.dt_s = dt_s;
   spec.settle_s = duration_s;
-  StartState start = makeStartState(world, spec, observe);
+  StartState start = makeStartState(world, spec, nullptr, observe);
   ColonState& state = start.state.colon;
   state.time_s = start.settled_clock_s;  // the summary's state is the settling's own, clock included
   out.steps = steps;

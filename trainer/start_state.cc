@@ -1,5 +1,9 @@
 #include "trainer/start_state.h"
 
+#include <memory>
+
+#include "collision/contact_query.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -79,7 +83,8 @@ StartSpec startSpecOf(const Scenario& scenario) {
   return spec;
 }
 
-StartState makeStartState(const WorldModel& model, const StartSpec& spec, const SettleObserver& observe) {
+StartState makeStartState(const WorldModel& model, const StartSpec& spec, ContactQuery* query,
+                          const SettleObserver& observe) {
   // An error found here names the line of its key in the scenario file.
   auto fail = [&spec](const std::string& message) {
     return spec.file.empty() ? InputError(message) : scenarioError(spec.file, message);
@@ -125,6 +130,16 @@ StartState makeStartState(const WorldModel& model, const StartSpec& spec, const 
   const HandleInput& first = spec.first_input;
   if (first.insertion_m > 0) threadScopeAlongColon(model, s, first.insertion_m, first.rotation_rad);
   s.scope.input = clampHandleInput(model.scope, first);
+  // Relaxation: the threaded scope is bent along the centreline with no wall holding it;
+  // it comes to rest against the wall with the handle held, then the clock starts.
+  if (first.insertion_m > 0 && spec.relax_s > 0) {
+    std::unique_ptr<ContactQuery> own;
+    if (!query) query = (own = makeContactQuery(model, "fcl")).get();
+    const HandleInput held = s.scope.input;
+    const long steps = std::lround(spec.relax_s / spec.dt_s);
+    for (long k = 0; k < steps; ++k) stepWorld(model, s, held, *query, spec.dt_s);
+    s.colon.time_s = 0.0;
+  }
   return out;
 }
 

@@ -29,6 +29,11 @@ struct StartSpec {
   /// The scope is threaded along the colon to this input's insertion and rotation, and
   /// holds it (clamped to the scope model's range).
   HandleInput first_input;
+  /// After threading, the world runs this long with the handle held at first_input, so
+  /// that the bent scope comes to rest against the wall before the clock starts [s]
+  /// (0: none). 0.5 s: the scope's slowest joint modes and the wall contacts damp out in
+  /// ~0.2 s; with it no shipped scenario engages a solver limit at its start.
+  double relax_s = 0.5;
   std::string file;  ///< the scenario file errors name with their line ("": none)
 };
 
@@ -54,9 +59,12 @@ struct StartState {
 using SettleObserver = std::function<bool(long steps_done, const ColonState& colon)>;
 
 /// Builds the start state of `model` in stages: settle (round(settle_s / dt_s) colon
-/// steps, the scope out), colon shape, abdominal pressure, threading. InputError naming
+/// steps, the scope out), colon shape, abdominal pressure, threading, relaxation
+/// (round(relax_s / dt_s) world steps with contacts found by `query`, or by an FCL query
+/// of its own when null, when the scope was threaded; the clock then starts again at 0). InputError naming
 /// the file and line of the key for a region the anatomy does not have or a shape whose
 /// ends miss the region's.
-StartState makeStartState(const WorldModel& model, const StartSpec& spec, const SettleObserver& observe = {});
+StartState makeStartState(const WorldModel& model, const StartSpec& spec, ContactQuery* query = nullptr,
+                          const SettleObserver& observe = {});
 
 }  // namespace colosim

@@ -62,7 +62,7 @@ WorldSimulation::WorldSimulation(WorldModel model, const StartSpec& start, const
 
 void WorldSimulation::restart(const StartSpec& start) {
   dt_s_ = start.dt_s;
-  StartState s = makeStartState(model_, start);
+  StartState s = makeStartState(model_, start, query_.get());
   state_ = std::move(s.state);
   pressure_ = std::move(s.pressure);
   sigmoid_first_ = sigmoid_last_ = -1;
