@@ -132,6 +132,12 @@ int runScripted(const RunOptions& o) {
                  scenario.name.c_str(), r.scores["solver_limited_steps"].get<long>(),
                  r.scores["solver_limited_episodes"].get<long>(),
                  o.record.empty() ? "" : "; the session records each as a solver_limited event");
+  // The scope was not where the contact model placed it somewhere: say so (core/lumen_check.h).
+  if (r.scores.value("lumen_exit_steps", 0L) > 0)
+    std::fprintf(stderr, "colosim run %s: a scope slice lay outside the lumen it is tracked in during %ld steps "
+                 "(largest track jump %.4f m, deepest penetration %.4f m)\n",
+                 scenario.name.c_str(), r.scores["lumen_exit_steps"].get<long>(),
+                 r.scores["max_track_jump_m"].get<double>(), r.scores["max_wall_penetration_m"].get<double>());
   if (o.json) {
     std::cout << (o.score ? r.scores.dump() : nlohmann::json{{"scenario", scenario.name}, {"steps", r.steps},
                                                              {"final_state_hash", hashToHex(r.final_state_hash)}}
@@ -156,6 +162,9 @@ int runScripted(const RunOptions& o) {
   std::printf("  handle force         peak push %.2f N, peak pull %.2f N, peak torque %.3f N m\n", peak_push,
               peak_pull, peak_torque);
   std::printf("  loop                 largest %.2f turns, %.2f turns at the end\n", max_loop, t.loop_turns);
+  std::printf("  contact topology     largest track jump %.4f m, deepest penetration %.4f m, %ld steps out of the lumen\n",
+              r.scores["max_track_jump_m"].get<double>(), r.scores["max_wall_penetration_m"].get<double>(),
+              r.scores["lumen_exit_steps"].get<long>());
   std::printf("  final state hash     %s\n", hashToHex(r.final_state_hash).c_str());
   if (!o.record.empty()) std::printf("  session recorded in  %s\n", o.record.c_str());
   if (!o.frames.empty()) std::printf("  frames written in    %s\n", o.frames.c_str());

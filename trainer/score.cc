@@ -118,6 +118,9 @@ void Scorer::add(const Telemetry& t) {
     if (!was_limited_) ++limited_episodes_;
   }
   was_limited_ = t.solver_limited > 0;
+  max_track_jump_m_ = std::max(max_track_jump_m_, t.track_jump_m);
+  max_wall_penetration_m_ = std::max(max_wall_penetration_m_, t.wall_penetration_m);
+  if (t.lumen_exit) ++lumen_exit_steps_;
   if (t.time_s <= o_.start_s) {  // set-up, not scored; still the reference for paths
     prev_ = t;
     have_prev_ = true;
@@ -144,6 +147,9 @@ nlohmann::json Scorer::json() const {
   j["withdrawal"] = time_to_caecum_s_ ? withdrawal_.json() : nlohmann::json(nullptr);
   j["solver_limited_steps"] = limited_steps_;
   j["solver_limited_episodes"] = limited_episodes_;
+  j["max_track_jump_m"] = max_track_jump_m_;
+  j["max_wall_penetration_m"] = max_wall_penetration_m_;
+  j["lumen_exit_steps"] = lumen_exit_steps_;
   j["thresholds"] = {{"caecum_reach_m", o_.caecum_reach_m},
                      {"excessive_wall_force_N", o_.excessive_wall_force_N},
                      {"episode_min_s", o_.episode_min_s},
@@ -172,7 +178,8 @@ const std::map<std::string, std::string>& Scorer::units() {
       {"redout_time_s", "s"}, {"lumen_lost_count", "1"}, {"lumen_visible_pct", "%"},
       {"tip_path_m", "m"}, {"insertion_path_m", "m"}, {"rotation_path_rad", "rad"},
       {"knob_path_rad", "rad"}, {"tip_path_per_insertion_path", "m/m"},
-      {"solver_limited_steps", "1"}, {"solver_limited_episodes", "1"}};
+      {"solver_limited_steps", "1"}, {"solver_limited_episodes", "1"},
+      {"max_track_jump_m", "m"}, {"max_wall_penetration_m", "m"}, {"lumen_exit_steps", "1"}};
   return u;
 }
 

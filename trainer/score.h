@@ -103,6 +103,12 @@ class Scorer {
   /// session's solver_limited events report (docs/hardening.md).
   long solverLimitedSteps() const { return limited_steps_; }
   long solverLimitedEpisodes() const { return limited_episodes_; }
+  /// The contact topology over the whole session, every step including a set-up
+  /// (Telemetry::track_jump_m, wall_penetration_m, lumen_exit): the largest track jump [m],
+  /// the deepest penetration [m], the steps with a slice centre out of its lumen.
+  double maxTrackJump_m() const { return max_track_jump_m_; }
+  double maxWallPenetration_m() const { return max_wall_penetration_m_; }
+  long lumenExitSteps() const { return lumen_exit_steps_; }
   const PhaseScore& total() const { return total_; }
   const PhaseScore& insertion() const { return insertion_; }
   const PhaseScore& withdrawal() const { return withdrawal_; }
@@ -113,6 +119,8 @@ class Scorer {
   std::optional<double> time_to_caecum_s_;
   double last_time_s_;
   long limited_steps_ = 0, limited_episodes_ = 0;
+  double max_track_jump_m_ = 0, max_wall_penetration_m_ = 0;
+  long lumen_exit_steps_ = 0;
   bool was_limited_ = false;
   bool have_prev_ = false;
   Telemetry prev_;

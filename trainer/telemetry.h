@@ -43,6 +43,13 @@ struct Telemetry {
   /// contact forces scaled down, segments and control points slowed, failed solves); 0
   /// when the solvers kept up (docs/hardening.md).
   int solver_limited = 0;
+  /// The contact topology after the step (core/lumen_check.h): the largest jump in colon
+  /// arclength between adjacent slices' tracks beyond the scope length between them [m],
+  /// the deepest interaction point beyond the wall it is tracked on [m], and whether some
+  /// slice centre lies outside the lumen of its track. 0, 0, false without a scope.
+  double track_jump_m = 0.0;
+  double wall_penetration_m = 0.0;
+  bool lumen_exit = false;
 };
 
 /// Net turning of a polyline projected on the plane normal to `normal` [turns]:

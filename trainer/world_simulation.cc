@@ -10,6 +10,7 @@
 
 #include "core/colon_step.h"
 #include "core/input_error.h"
+#include "core/lumen_check.h"
 #include "core/scope_step.h"
 #include "trainer/assets.h"
 #include "trainer/colon_simulation.h"
@@ -176,6 +177,11 @@ void WorldSimulation::measure() {
   t.input = s.scope.input;
   t.handle_force_N = s.scope.handle.force_N;
   t.handle_torque_Nm = s.scope.handle.torque_Nm;
+  // Contact topology: is every slice tracked in the lumen it is really in?
+  const LumenCheck lumen = checkLumen(model_, s);
+  t.track_jump_m = lumen.track_jump_m;
+  t.wall_penetration_m = lumen.wall_penetration_m;
+  t.lumen_exit = lumen.lumen_exit;
   // Peak wall force: the largest force one scope segment (1.5 cm) puts on the wall.
   {
     double seg_force = 0, peak = 0;
