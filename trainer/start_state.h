@@ -31,8 +31,9 @@ struct StartSpec {
   HandleInput first_input;
   /// After threading, the world runs this long with the handle held at first_input, so
   /// that the bent scope comes to rest against the wall before the clock starts [s]
-  /// (0: none). 0.5 s: the scope's slowest joint modes and the wall contacts damp out in
-  /// ~0.2 s; with it no shipped scenario engages a solver limit at its start.
+  /// (0: none). Measured on sigmoid_untwist and sigmoid_push: without it the closed-joint
+  /// start still engaged a solver limit in 2 steps; with 0.5 s (or 1 s) none, and the
+  /// handle force stays below 2 N (tests/trainer/start_state_test.cc).
   double relax_s = 0.5;
   std::string file;  ///< the scenario file errors name with their line ("": none)
 };
@@ -61,9 +62,9 @@ using SettleObserver = std::function<bool(long steps_done, const ColonState& col
 /// Builds the start state of `model` in stages: settle (round(settle_s / dt_s) colon
 /// steps, the scope out), colon shape, abdominal pressure, threading, relaxation
 /// (round(relax_s / dt_s) world steps with contacts found by `query`, or by an FCL query
-/// of its own when null, when the scope was threaded; the clock then starts again at 0). InputError naming
-/// the file and line of the key for a region the anatomy does not have or a shape whose
-/// ends miss the region's.
+/// of its own when null, when the scope was threaded; the clock then starts again at 0).
+/// InputError naming the file and line of the key for a region the anatomy does not have
+/// or a shape whose ends miss the region's.
 StartState makeStartState(const WorldModel& model, const StartSpec& spec, ContactQuery* query = nullptr,
                           const SettleObserver& observe = {});
 
