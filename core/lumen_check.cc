@@ -8,12 +8,12 @@
 
 namespace colosim {
 
-LumenCheck checkLumen(const WorldModel& m, const WorldState& s) {
+LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<double>& arc) {
   LumenCheck out;
   const ColonModel& colon = m.colon;
   const ScopeModel& scope = m.scope;
   // Present arclength at each control point, over the chords [m].
-  std::vector<double> arc(colon.n, 0.0);
+  arc.assign(colon.n, 0.0);
   for (int j = 0; j + 1 < colon.n; ++j) arc[j + 1] = arc[j] + (s.colon.q.col(j + 1) - s.colon.q.col(j)).norm();
   auto arclength = [&](const WallTrack& t) { return arc[t.colon_segment] + t.p * (arc[t.colon_segment + 1] - arc[t.colon_segment]); };
 

@@ -8,6 +8,8 @@
 // (1.5 cm apart: within a few per cent of the curve's own length at the bends the colon takes).
 #pragma once
 
+#include <vector>
+
 #include "core/world.h"
 
 namespace colosim {
@@ -23,7 +25,9 @@ struct LumenCheck {
   bool lumen_exit = false;
 };
 
-/// Measures the state's contact topology (see above). Allocates one vector of n doubles.
-LumenCheck checkLumen(const WorldModel& model, const WorldState& state);
+/// Measures the state's contact topology (see above). `arc_scratch` holds the present
+/// arclength at each control point (resized to n; reused across calls, so that measuring
+/// every step allocates nothing once it has its size).
+LumenCheck checkLumen(const WorldModel& model, const WorldState& state, std::vector<double>& arc_scratch);
 
 }  // namespace colosim

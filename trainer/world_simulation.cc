@@ -178,7 +178,7 @@ void WorldSimulation::measure() {
   t.handle_force_N = s.scope.handle.force_N;
   t.handle_torque_Nm = s.scope.handle.torque_Nm;
   // Contact topology: is every slice tracked in the lumen it is really in?
-  const LumenCheck lumen = checkLumen(model_, s);
+  const LumenCheck lumen = checkLumen(model_, s, lumen_arc_);
   t.track_jump_m = lumen.track_jump_m;
   t.wall_penetration_m = lumen.wall_penetration_m;
   t.lumen_exit = lumen.lumen_exit;

@@ -40,6 +40,9 @@ Points bent(double bend_m) {
   return q;
 }
 
+// Scratch for checkLumen.
+std::vector<double> arc;
+
 // Tracks as the contact query leaves them: every point on the colon location nearest it.
 void trackNearest(const WorldModel& m, WorldState& s) {
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
@@ -55,7 +58,7 @@ TEST(LumenCheck, AScopeAlongTheCentrelineIsInsideWithContinuousTracks) {
   WorldState s = makeWorldState(m);
   threadScopeAlongColon(m, s, 0.4);
   trackNearest(m, s);
-  const LumenCheck c = checkLumen(m, s);
+  const LumenCheck c = checkLumen(m, s, arc);
   EXPECT_LT(c.track_jump_m, 1e-9);
   EXPECT_EQ(c.wall_penetration_m, 0.0);
   EXPECT_FALSE(c.lumen_exit);
@@ -70,7 +73,7 @@ TEST(LumenCheck, ASliceTrackedOnAFarPartIsAJumpAndAnExit) {
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
   const WallTrack t = s.track[10 * P];
   for (int i = 0; i < P; ++i) s.track[10 * P + i] = {t.colon_segment + 10, t.p};
-  const LumenCheck c = checkLumen(m, s);
+  const LumenCheck c = checkLumen(m, s, arc);
   // Its neighbours are 0.15 m -+ h away in arclength: the jump beyond h is 0.15 m.
   EXPECT_NEAR(c.track_jump_m, 0.15, 1e-6);
   // Its centre is 0.15 m from the tracked centreline point, far outside the 2 cm lumen;
@@ -85,7 +88,7 @@ TEST(LumenCheck, ASegmentPushedIntoTheWallPenetratesByWhatItIsOut) {
   threadScopeAlongColon(m, s, 0.4);
   s.scope.p_W[5] += Vec3(0.03, 0, 0);  // 3 cm sideways: its axis 1 cm beyond the wall
   trackNearest(m, s);
-  const LumenCheck c = checkLumen(m, s);
+  const LumenCheck c = checkLumen(m, s, arc);
   EXPECT_TRUE(c.lumen_exit);
   EXPECT_NEAR(c.wall_penetration_m, 0.03 + m.scope.radius_m - 0.02, 1e-6);
   EXPECT_LT(c.track_jump_m, 1e-6);  // still tracked beside its neighbours
