@@ -105,14 +105,14 @@ struct FclContactQuery::Impl final : TrackingCandidates {
   std::vector<std::pair<double, int>> order;
 };
 
-// Other parts of the colon near x (broadphase candidates of scope segment k off the walked
+// Other colon segments near x (broadphase candidates of scope segment k off the walked
 // stretch), closest bounds first, skipping those whose bounds are farther than the best so far.
 SplineLocation FclContactQuery::Impl::nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
                                                    const SplineLocation& local) {
   order.clear();
   for (int c = first[k]; c < first[k + 1]; ++c) {
     const int j = pairs[c].first;
-    if (local.j >= 0 && std::abs(j - local.j) <= 1) continue;
+    if (std::abs(j - local.j) <= 1) continue;
     // Two lower bounds of the distance to the segment: its box (squared, no root unless
     // it passes) and its ball.
     const double box2 = (lo[j] - x).cwiseMax(x - hi[j]).cwiseMax(0.0).squaredNorm();

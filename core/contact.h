@@ -41,7 +41,7 @@ struct ContactLimitReport {
 /// An interaction point of the scope outside the lumen (a query result).
 struct WallContact {
   int scope_segment = 0;
-  int point = 0;                      ///< index into ScopeModel::interaction_points_S
+  int point = 0;                      ///< index into ScopeModel::interaction_points_S, then tip_face_points_S (P + f)
   Vec3 p_W_point = Vec3::Zero();      ///< interaction point I [m]
   int colon_segment = 0;              ///< nearest spline point M_j(p): segment j ...
   double p = 0;                       ///< ... and parameter p

@@ -45,12 +45,13 @@ SplineLocation walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3
   return local;
 }
 
-SplineLocation keepTrackedPart(const WorldModel& m, const SplineLocation& local, const SplineLocation& other) {
-  const ColonModel& colon = m.colon;
-  const double ds = std::abs(colon.arclengthAt(other.j, other.p) - colon.arclengthAt(local.j, local.p));
-  const bool far_part = ds > m.contact.self_neighbour_radii * colon.radiusAt(local.j, local.p);
-  const double reach = colon.radiusAt(local.j, local.p) + m.contact.query_margin_m;
-  return (far_part && local.d <= reach) ? local : other;
+bool colonStaysNear(const std::vector<SegmentCubic>& cubics, const SplineLocation& a, const SplineLocation& b,
+                    const Vec3& x, double reach_m) {
+  const int lo = std::min(a.j, b.j), hi = std::max(a.j, b.j);
+  const double reach2 = reach_m * reach_m;
+  for (int j = lo + 1; j <= hi; ++j)  // control point j starts segment j
+    if ((cubics[j].c0 - x).squaredNorm() > reach2) return false;
+  return true;
 }
 
 void recordIfOutside(const WorldModel& m, const std::vector<SegmentCubic>& cubics, int k, int i, const Vec3& x,
@@ -71,19 +72,42 @@ void recordIfOutside(const WorldModel& m, const std::vector<SegmentCubic>& cubic
 
 void resetOutsideTracks(const WorldModel& m, WorldState& s) {
   const size_t P = m.scope.interaction_points_S.size();
-  for (size_t t = static_cast<size_t>(s.scope.inside) * P; t < s.track.size(); ++t) s.track[t] = WallTrack();
+  const size_t ring_points = static_cast<size_t>(m.scope.segment_count) * P;
+  for (size_t t = static_cast<size_t>(s.scope.inside) * P; t < ring_points; ++t) s.track[t] = WallTrack();
+  if (s.scope.inside == 0)
+    for (size_t t = ring_points; t < s.track.size(); ++t) s.track[t] = WallTrack();
+  const size_t slices = m.scope.params.slices_per_segment;
+  for (size_t t = static_cast<size_t>(s.scope.inside) * slices; t < s.slice_track.size(); ++t) s.slice_track[t] = WallTrack();
 }
 
 void scanWallContacts(const WorldModel& m, const std::vector<SegmentCubic>& cubics, WorldState& s) {
   s.wall.clear();
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
+  const int slices = m.scope.params.slices_per_segment;
+  auto nearest = [&](const Vec3& x) {
+    SplineLocation best;
+    for (int j = 0; j + 1 < m.colon.n; ++j) considerSegment(cubics, j, x, best);
+    return best;
+  };
   for (int k = 0; k < s.scope.inside; ++k) {
+    for (int sl = 0; sl < slices; ++sl) {
+      const SplineLocation at = nearest(sliceCentre(m.scope, s.scope, k, sl));
+      s.slice_track[k * slices + sl] = {at.j, at.p};
+    }
     for (int i = 0; i < P; ++i) {
       const Vec3 x = interactionPoint(m.scope, s.scope, k, i);
-      SplineLocation best;
-      for (int j = 0; j + 1 < m.colon.n; ++j) considerSegment(cubics, j, x, best);
+      const SplineLocation best = nearest(x);
       s.track[k * P + i] = {best.j, best.p};
       recordIfOutside(m, cubics, k, i, x, best, s.wall);
+    }
+  }
+  if (s.scope.inside > 0) {
+    const int F = static_cast<int>(m.scope.tip_face_points_S.size());
+    for (int f = 0; f < F; ++f) {
+      const Vec3 x = tipFacePoint(m.scope, s.scope, f);
+      const SplineLocation best = nearest(x);
+      s.track[m.scope.segment_count * P + f] = {best.j, best.p};
+      recordIfOutside(m, cubics, 0, P + f, x, best, s.wall);
     }
   }
   resetOutsideTracks(m, s);
@@ -93,93 +117,86 @@ ContactTracker::ContactTracker(const WorldModel& m) { cubics_.reserve(m.colon.n)
 
 void ContactTracker::updateCubics(const ColonState& colon) { updateSegmentCubics(colon.q, cubics_); }
 
-SplineLocation ContactTracker::nearestTracked(const WorldModel& m, const Vec3& x, int start, int k,
-                                              TrackingCandidates& candidates) {
-  // 1. Walk along the spline from the tracked location to the local minimum of the distance.
-  const SplineLocation local = walkToNearest(cubics_, x, start);
-  // 2. Other parts of the colon near x, from the candidate search.
+SplineLocation ContactTracker::nearestOnPart(const WorldModel& m, const Vec3& x, const SplineLocation& anchor, int k,
+                                             TrackingCandidates& candidates) {
+  // 1. Walk along the spline from the anchor to the local minimum of the distance.
+  const SplineLocation local = walkToNearest(cubics_, x, anchor.j);
+  // 2. A nearer location from the candidate search, when the colon from the anchor to it
+  //    stays near x (a fold or pleat of the same part).
   const SplineLocation other = candidates.nearestOther(cubics_, x, k, local);
-  if (local.j < 0) {
-    if (other.j >= 0) return other;
-    SplineLocation all;  // nothing tracked and nothing near: the paper's scan
-    for (int j = 0; j + 1 < m.colon.n; ++j) considerSegment(cubics_, j, x, all);
-    return all;
-  }
-  if (other.j < 0 || other.d >= local.d) return local;
-  // 3. Another part is nearer: it takes over unless the tracked part is kept.
-  return keepTrackedPart(m, local, other);
+  if (other.j < 0 || !(other.d < local.d)) return local;
+  const double reach_m = m.contact.self_neighbour_radii * m.colon.radiusAt(anchor.j, anchor.p);
+  return colonStaysNear(cubics_, anchor, other, x, reach_m) ? other : local;
 }
 
 void ContactTracker::trackWallContacts(const WorldModel& m, WorldState& s, TrackingCandidates& candidates) {
   const ColonModel& colon = m.colon;
-  // 4. The slices' centres on the scope axis, from the anus to the tip; a slice located on
-  //    a far part from its proximal neighbour's location takes the neighbour's lumen when
-  //    its centre lies deeper in it (and within reach of it).
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
   const int per_slice = m.scope.params.points_per_slice;
-  const int slices = P / per_slice;
+  const int slices = m.scope.params.slices_per_segment;
+  // 1-2. The chain of slice centres, from the anus (colon segment 0) to the tip: each walks
+  //      from its proximal neighbour's location.
   axes_.assign(static_cast<size_t>(s.scope.inside) * slices, SplineLocation());
-  moved_.assign(axes_.size(), 0);
+  SplineLocation anchor{0, 0.0, 0.0};  // the anus
   for (int k = s.scope.inside - 1; k >= 0; --k) {
     for (int sl = 0; sl < slices; ++sl) {
-      const int first = sl * per_slice;
-      const Vec3 centre = s.scope.p_W[k] + s.scope.R_WS[k] * Vec3(0, 0, m.scope.interaction_points_S[first].z());
-      SplineLocation axis = nearestTracked(m, centre, s.track[k * P + first].colon_segment, k, candidates);
-      const SplineLocation before = k + 1 < s.scope.inside ? axes_[(k + 1) * slices + sl] : SplineLocation();
-      if (axis.j >= 0 && before.j >= 0) {
-        const double ds = std::abs(colon.arclengthAt(axis.j, axis.p) - colon.arclengthAt(before.j, before.p));
-        if (ds > m.contact.self_neighbour_radii * colon.radiusAt(before.j, before.p)) {
-          const SplineLocation path = walkToNearest(cubics_, centre, before.j);
-          const double path_depth = path.d - colon.radiusAt(path.j, path.p);
-          if (path_depth <= m.contact.query_margin_m && path_depth < axis.d - colon.radiusAt(axis.j, axis.p)) {
-            axis = path;
-            moved_[k * slices + sl] = 1;
-          }
-        }
+      const Vec3 centre = sliceCentre(m.scope, s.scope, k, sl);
+      SplineLocation axis = nearestOnPart(m, centre, anchor, k, candidates);
+      // ... or, when nearer, where the slice itself was a step ago, walked from there.
+      const int before = s.slice_track[k * slices + sl].colon_segment;
+      if (before >= 0) {
+        const SplineLocation own = walkToNearest(cubics_, centre, before);
+        if (own.d < axis.d) axis = own;
       }
       axes_[k * slices + sl] = axis;
+      s.slice_track[k * slices + sl] = {axis.j, axis.p};
+      anchor = axis;
     }
   }
-  // Then each slice's points, from the tip.
+  // 3. Each slice's points, from the slice centre's location.
   s.wall.clear();
   for (int k = 0; k < s.scope.inside; ++k) {
-    for (int first = 0; first < P; first += per_slice) {
-      const SplineLocation& axis = axes_[k * slices + first / per_slice];
-      const bool moved = moved_[k * slices + first / per_slice];
-      // 5. A slice whose whole ring is provably inside the lumen (centre distance + scope
+    for (int sl = 0; sl < slices; ++sl) {
+      const SplineLocation& axis = axes_[k * slices + sl];
+      const int first = sl * per_slice;
+      // 4. A slice whose whole ring is provably inside the lumen (centre distance + scope
       //    radius <= the smallest nearby radius): no point of it can touch the wall.
-      double r_min = -kInf;  // the smallest lumen radius around the slice's location [m]
-      Vec3 axis_point = Vec3::Zero();
-      if (axis.j >= 0) {
-        r_min = kInf;
-        for (int i = std::max(0, axis.j - 1); i <= std::min(colon.n - 1, axis.j + 2); ++i)
-          r_min = std::min(r_min, colon.radius_m(i));
-        if (axis.d + m.scope.radius_m <= r_min) {
-          for (int i = first; i < first + per_slice; ++i) s.track[k * P + i] = {axis.j, axis.p};
-          continue;
-        }
-        axis_point = cubics_[axis.j].at(axis.p);
+      double r_min = kInf;  // the smallest lumen radius around the slice's location [m]
+      for (int i = std::max(0, axis.j - 1); i <= std::min(colon.n - 1, axis.j + 2); ++i)
+        r_min = std::min(r_min, colon.radius_m(i));
+      if (axis.d + m.scope.radius_m <= r_min) {
+        for (int i = first; i < first + per_slice; ++i) s.track[k * P + i] = {axis.j, axis.p};
+        continue;
       }
+      const Vec3 axis_point = cubics_[axis.j].at(axis.p);
       for (int i = first; i < first + per_slice; ++i) {
         const Vec3 x = interactionPoint(m.scope, s.scope, k, i);
         WallTrack& track = s.track[k * P + i];
         // The same test per point: the spline point nearest the slice's centre is at most
         // |x - axis_point| from x, so x is inside the lumen when that is within r_min (the
         // points on the side of the scope away from the wall).
-        if ((x - axis_point).squaredNorm() <= r_min * r_min && r_min > 0) {
+        if ((x - axis_point).squaredNorm() <= r_min * r_min) {
           track = {axis.j, axis.p};
           continue;
         }
-        // Rules 1-3 from the point's track, or from the slice's location when it has none
-        // or rule 4 moved the slice.
-        const int start = (track.colon_segment >= 0 && !moved) ? track.colon_segment : axis.j;
-        const SplineLocation best = nearestTracked(m, x, start, k, candidates);
+        const SplineLocation best = nearestOnPart(m, x, axis, k, candidates);
         track = {best.j, best.p};
         recordIfOutside(m, cubics_, k, i, x, best, s.wall);
       }
     }
   }
-  // 6. Points outside the patient.
+  // 3. The tip face's points, from the tip slice's location.
+  if (s.scope.inside > 0) {
+    const SplineLocation& tip = axes_[slices - 1];
+    const int F = static_cast<int>(m.scope.tip_face_points_S.size());
+    for (int f = 0; f < F; ++f) {
+      const Vec3 x = tipFacePoint(m.scope, s.scope, f);
+      const SplineLocation best = nearestOnPart(m, x, tip, 0, candidates);
+      s.track[m.scope.segment_count * P + f] = {best.j, best.p};
+      recordIfOutside(m, cubics_, 0, P + f, x, best, s.wall);
+    }
+  }
+  // 5. Points outside the patient.
   resetOutsideTracks(m, s);
 }
 

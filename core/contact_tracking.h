@@ -3,31 +3,38 @@
 // interaction point I is a contact when |I - M_j(p)| exceeds the lumen radius there).
 //
 // The paper finds M_j(p) by scanning the whole spline (scanWallContacts, kept as the
-// reference). Near a loop of the colon that nearest point can jump to another part lying
-// against the one the scope is in; tracking keeps each point on its part. The rule, per
-// step (ContactTracker::trackWallContacts):
-//  1. Walk: from a point's tracked location (its WallTrack), walk along the spline to the
-//     local minimum of the distance (walkToNearest).
-//  2. Candidates: the search behind ContactQuery (the broadphase, collision/) offers the
-//     nearest location on the other colon segments near the point's scope segment
-//     (TrackingCandidates).
-//  3. Far part: a nearer candidate takes over, unless it is a far part of the colon (more
-//     than ContactParams::self_neighbour_radii lumen radii away in arclength: the other
-//     side of a loop) while the point is still within reach of the tracked lumen (its
-//     radius plus ContactParams::query_margin_m). Nothing tracked and no candidate: the
-//     paper's scan.
-//  4. Slices along the scope: the centres of the interaction point slices are located
-//     first (rules 1-3), from the anus to the tip. The scope runs inside the colon from
-//     the anus, so a slice lies next to the same slice of its proximal neighbour along the
-//     colon too: a slice located on a far part from the neighbour's location, whose centre
-//     lies deeper in the lumen next to the neighbour's location (walked to from there, and
-//     within the margin of it), takes that location, and its points walk from it.
-//  5. Inside: a slice whose whole ring is provably inside the lumen (centre distance plus
+// reference). Where parts of the colon lie against each other (sigmoid on rectum, a loop,
+// the transverse colon on a flexure), the nearest spline point can belong to another part
+// than the one the scope is in; taking it lets the scope pass through the wall. The scope
+// enters at the anus and runs inside the lumen, so the part each slice is in follows from
+// its proximal neighbour's: the contact topology. The rule, per step
+// (ContactTracker::trackWallContacts):
+//  1. Chain: the slice centres on the scope's axis are located from the anus to the tip.
+//     The first slice inside is anchored at the anus (the colon's start), every later one at
+//     its proximal neighbour's location. From its anchor a slice walks along the spline to
+//     the local minimum of the distance (walkToNearest). It also walks from where it was a
+//     step ago (state.slice_track) and keeps the nearer: the colon moves less than a few mm
+//     in a step, so that walk stays in its lumen too, and it holds a slice whose
+//     neighbour's walk stops short in a fold.
+//  2. Same part: the search behind ContactQuery (the broadphase, collision/) offers the
+//     nearest location on the other colon segments near the slice's scope segment
+//     (TrackingCandidates). A nearer one takes over only when the colon from the anchor to
+//     it stays near the slice (colonStaysNear: every control point between within
+//     ContactParams::self_neighbour_radii lumen radii of it): a fold or a pleat of the part
+//     the slice is in, where the walk stopped at a shallow minimum. Another part that only
+//     lies against it (a sigmoid folded down on the rectum, the other side of a loop) is
+//     reached along the colon through places far from the slice, and never takes over.
+//     So a slice never changes lumen through the wall, and tracks are continuous along the
+//     scope from the anus. A tip turned back along the colon (retroflexion) is followed
+//     the same way, slice by slice.
+//  3. Points: each interaction point is anchored at its slice centre's location (rules 1-2);
+//     the tip face's points at the tip slice's.
+//  4. Inside: a slice whose whole ring is provably inside the lumen (centre distance plus
 //     scope radius within the smallest lumen radius around its location) has no contact;
 //     nor has a point within that radius of the slice centre's spline point. Their tracks
 //     take the slice centre's location.
-//  6. Outside the patient: points of segments outside the anus lose their tracks.
-// docs/hardening.md ("Contact tracking") tells why rules 3 and 4 are as they are.
+//  5. Outside the patient: points of segments outside the anus lose their tracks.
+// docs/hardening.md ("Contact tracking") tells the history of the rule.
 #pragma once
 
 #include <vector>
@@ -55,20 +62,22 @@ void considerSegment(const std::vector<SegmentCubic>& cubics, int j, const Vec3&
 /// is tried.
 SplineLocation walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3& x, int start);
 
-/// Rule 3: the tracked location `local` (j >= 0) or a nearer `other` one (j >= 0, d < local.d)?
-SplineLocation keepTrackedPart(const WorldModel& model, const SplineLocation& local, const SplineLocation& other);
+/// Rule 2: whether the colon between locations a and b (j >= 0) stays within reach_m of x at
+/// every control point between them (`cubics`: the present centreline).
+bool colonStaysNear(const std::vector<SegmentCubic>& cubics, const SplineLocation& a, const SplineLocation& b,
+                    const Vec3& x, double reach_m);
 
 /// The wall contact of interaction point i of scope segment k at x, located at `at`, when x
 /// lies outside the lumen there; appended to `out`.
 void recordIfOutside(const WorldModel& model, const std::vector<SegmentCubic>& cubics, int k, int i,
                      const Vec3& x, const SplineLocation& at, std::vector<WallContact>& out);
 
-/// Rule 6: resets the tracks of the interaction points of segments outside the patient.
+/// Rule 5: resets the tracks of the interaction points of segments outside the patient.
 void resetOutsideTracks(const WorldModel& model, WorldState& state);
 
 /// The paper's method, the reference: every interaction point of the simulated segments
-/// takes the nearest point of the whole spline (`cubics` of state.colon); fills state.wall
-/// and state.track.
+/// takes the nearest point of the whole spline (`cubics` of state.colon), the tip face's
+/// points and the slice centres too; fills state.wall, state.track and state.slice_track.
 void scanWallContacts(const WorldModel& model, const std::vector<SegmentCubic>& cubics, WorldState& state);
 
 /// What a candidate search (a broadphase) offers the tracking (rule 2).
@@ -76,30 +85,30 @@ class TrackingCandidates {
  public:
   virtual ~TrackingCandidates() = default;
   /// The nearest location to x on the colon segments near scope segment k, leaving out
-  /// local.j - 1 .. local.j + 1 when local.j >= 0 and any segment that cannot be nearer
-  /// than local.d; none (j = -1) when no such segment is nearer.
+  /// local.j - 1 .. local.j + 1 and any segment that cannot be nearer than local.d; none
+  /// (j = -1) when no such segment is nearer.
   virtual SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
                                       const SplineLocation& local) = 0;
 };
 
-/// The tracked narrowphase (rules 1-6), with its scratch.
+/// The tracked narrowphase (rules 1-5), with its scratch.
 class ContactTracker {
  public:
   explicit ContactTracker(const WorldModel& model);
   /// The cubics of state.colon's centreline, for this step's queries.
   void updateCubics(const ColonState& colon);
   const std::vector<SegmentCubic>& cubics() const { return cubics_; }
-  /// Fills state.wall with the interaction points outside the lumen and updates
-  /// state.track (updateCubics() first).
+  /// Fills state.wall with the interaction points outside the lumen and sets state.track
+  /// and state.slice_track (updateCubics() first).
   void trackWallContacts(const WorldModel& model, WorldState& state, TrackingCandidates& candidates);
-  /// Rules 1-3 for one point x of scope segment k, walking from colon segment `start` (-1: none).
-  SplineLocation nearestTracked(const WorldModel& model, const Vec3& x, int start, int k,
-                                TrackingCandidates& candidates);
+  /// Rules 1-2 for one point x of scope segment k anchored at `anchor` (j >= 0): its
+  /// location on the part of the colon the anchor is on.
+  SplineLocation nearestOnPart(const WorldModel& model, const Vec3& x, const SplineLocation& anchor, int k,
+                               TrackingCandidates& candidates);
 
  private:
   std::vector<SegmentCubic> cubics_;
   std::vector<SplineLocation> axes_;  // per scope segment and slice: the slice centre's location
-  std::vector<char> moved_;           // ... and whether rule 4 took it back to the scope's path
 };
 
 }  // namespace colosim

@@ -19,15 +19,17 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
 
   const int P = static_cast<int>(scope.interaction_points_S.size());
   const int per_slice = scope.params.points_per_slice;
-  const int slices = P / per_slice;
+  const int slices = scope.params.slices_per_segment;
   const double slice_length_m = scope.h_m / slices;
+  auto beyondWall = [&](const Vec3& x, const WallTrack& t) {
+    return (x - splinePoint(s.colon.q, t.colon_segment, t.p)).norm() - colon.radiusAt(t.colon_segment, t.p);
+  };
   bool have_previous = false;
   double previous_arc = 0;
   // Slices from the anus to the tip: segment inside-1 is the deepest-in proximal one.
   for (int k = s.scope.inside - 1; k >= 0; --k) {
     for (int sl = 0; sl < slices; ++sl) {
-      const int first = sl * per_slice;
-      const WallTrack& t = s.track[static_cast<size_t>(k) * P + first];
+      const WallTrack& t = s.slice_track[static_cast<size_t>(k) * slices + sl];
       if (t.colon_segment < 0) {
         have_previous = false;
         continue;
@@ -36,18 +38,20 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
       if (have_previous) out.track_jump_m = std::max(out.track_jump_m, std::abs(a - previous_arc) - slice_length_m);
       have_previous = true;
       previous_arc = a;
-      const Vec3 centre = s.scope.p_W[k] + s.scope.R_WS[k] * Vec3(0, 0, scope.interaction_points_S[first].z());
-      if ((centre - splinePoint(s.colon.q, t.colon_segment, t.p)).norm() > colon.radiusAt(t.colon_segment, t.p))
-        out.lumen_exit = true;
-      for (int i = first; i < first + per_slice; ++i) {
+      if (beyondWall(sliceCentre(scope, s.scope, k, sl), t) > 0) out.lumen_exit = true;
+      for (int i = sl * per_slice; i < (sl + 1) * per_slice; ++i) {
         const WallTrack& ti = s.track[static_cast<size_t>(k) * P + i];
-        if (ti.colon_segment < 0) continue;
-        const double beyond = (interactionPoint(scope, s.scope, k, i) - splinePoint(s.colon.q, ti.colon_segment, ti.p)).norm() -
-                              colon.radiusAt(ti.colon_segment, ti.p);
-        out.wall_penetration_m = std::max(out.wall_penetration_m, beyond);
+        if (ti.colon_segment >= 0)
+          out.wall_penetration_m = std::max(out.wall_penetration_m, beyondWall(interactionPoint(scope, s.scope, k, i), ti));
       }
     }
   }
+  if (s.scope.inside > 0)
+    for (size_t f = 0; f < scope.tip_face_points_S.size(); ++f) {
+      const WallTrack& tf = s.track[static_cast<size_t>(scope.segment_count) * P + f];
+      if (tf.colon_segment >= 0)
+        out.wall_penetration_m = std::max(out.wall_penetration_m, beyondWall(tipFacePoint(scope, s.scope, static_cast<int>(f)), tf));
+    }
   return out;
 }
 

@@ -3,7 +3,7 @@
 // on a world state after a step, for the run summary, the scores and the tests; nothing
 // here changes the state.
 //
-// A slice's track is the spline location of its first interaction point (state.track);
+// A slice's track is the spline location of its centre (state.slice_track);
 // arclength is along the present centreline, summed over the chords between control points
 // (1.5 cm apart: within a few per cent of the curve's own length at the bends the colon takes).
 #pragma once

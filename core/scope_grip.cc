@@ -73,6 +73,20 @@ void holdWithinGrip(const ScopeModel& m, ScopeState& s, const HandleInput& targe
     dphi = moveWithin(want_phi, T0, slope_T, T_lim);
     r = trial(dL, dphi);
   }
+  // A force the moves leave beyond the limit (contacts at their own limits do not answer a
+  // small move, or the force is beyond it with the tube held still): the tube slides
+  // through the fingers, by the move of +-0.1 to +-1.6 mm that brings the force lowest,
+  // stopping at the first within the grip.
+  if (std::abs(r.force_N) > p.max_handle_force_N && std::isfinite(r.force_N)) {
+    double best_dL = dL, best_F = std::abs(r.force_N);
+    for (double move_m = 1e-4; move_m <= 1.6e-3 && best_F > p.max_handle_force_N; move_m *= 2)
+      for (double sign : {-1.0, 1.0}) {
+        const double F = std::abs(trial(dL + sign * move_m, dphi).force_N);
+        if (F < best_F) best_F = F, best_dL = dL + sign * move_m;
+        if (best_F <= p.max_handle_force_N) break;
+      }
+    trial(best_dL, dphi);
+  }
 }
 
 void recordGripSlip(ScopeState& s, const HandleInput& cmd) {

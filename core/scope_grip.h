@@ -21,7 +21,9 @@ HandleInput gripTarget(const ScopeModel& model, const ScopeState& state, const H
 /// outside part's move that keeps the reaction within 99 % of the limits, nearest the
 /// hand's: solved from the reaction held still and at two small probe moves (the reaction
 /// is nearly affine in the move over one step), then refined by secant steps while it is
-/// still beyond. Up to 8 steps in all, only while the grip slips.
+/// still beyond. Up to 8 steps in all, only while the grip slips; a force the moves leave
+/// beyond the limit (contacts at their own limits do not answer a small move) then slides
+/// the tube by the move of +-0.1 to +-1.6 mm that brings it lowest (up to 11 more steps).
 void holdWithinGrip(const ScopeModel& model, ScopeState& state, const HandleInput& target, double dt_s);
 
 /// Records the grip's slip after the step: the command `cmd` minus the outside part's

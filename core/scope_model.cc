@@ -47,6 +47,12 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
       m.interaction_points_S.emplace_back(m.radius_m * std::cos(a), m.radius_m * std::sin(a), z);
     }
   }
+  // The tip face: its centre (the lens) and three points at half the radius, between the ring's.
+  m.tip_face_points_S.emplace_back(0.0, 0.0, 0.5 * m.h_m);
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2 * M_PI * (k + 0.5) / 3;
+    m.tip_face_points_S.emplace_back(0.5 * m.radius_m * std::cos(a), 0.5 * m.radius_m * std::sin(a), 0.5 * m.h_m);
+  }
   return m;
 }
 

@@ -72,6 +72,12 @@ struct ScopeModel {
   /// slice after slice (the last at the segment's distal end), points_per_slice each,
   /// around the circumference.
   std::vector<Vec3> interaction_points_S;
+  /// Interaction points on the distal face of the tip segment (segment 0), besides its ring,
+  /// in its frame [m]: the lens at the face's centre and points half way to the rim. They
+  /// keep the lens out of the wall (a wall met head-on at a bend tighter than the lumen).
+  /// Tracked and in contact like the others, numbered after them
+  /// (WallContact::point = interaction_points_S.size() + f).
+  std::vector<Vec3> tip_face_points_S;
 };
 
 /// Builds the scope model for an entry at p_W_anus along entry_direction (towards the

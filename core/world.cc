@@ -25,8 +25,9 @@ WorldState makeWorldState(const WorldModel& m) {
   WorldState s;
   s.colon = makeColonState(m.colon, 8192);
   s.scope = makeScopeState(m.scope);
-  const size_t points = m.scope.segment_count * m.scope.interaction_points_S.size();
+  const size_t points = m.scope.segment_count * m.scope.interaction_points_S.size() + m.scope.tip_face_points_S.size();
   s.track.assign(points, WallTrack());
+  s.slice_track.assign(static_cast<size_t>(m.scope.segment_count) * m.scope.params.slices_per_segment, WallTrack());
   s.wall.reserve(points);
   s.self.reserve(16 * m.colon.n);
   return s;
@@ -115,6 +116,7 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
     arc_a = hi;
   }
   for (WallTrack& t : s.track) t = WallTrack();
+  for (WallTrack& t : s.slice_track) t = WallTrack();
 }
 
 int limitedCount(const WorldState& s) {
@@ -133,10 +135,11 @@ uint64_t hashWorldState(const WorldState& s) {
   };
   const std::vector<double> scope = getScopeState(s.scope);
   mix(scope.data(), scope.size() * sizeof(double));
-  for (const WallTrack& t : s.track) {
-    mix(&t.colon_segment, sizeof t.colon_segment);
-    mix(&t.p, sizeof t.p);
-  }
+  for (const std::vector<WallTrack>* tracks : {&s.track, &s.slice_track})
+    for (const WallTrack& t : *tracks) {
+      mix(&t.colon_segment, sizeof t.colon_segment);
+      mix(&t.p, sizeof t.p);
+    }
   for (const RegionSupport& r : s.support)  // abdominal pressure anchors (none: the hash is unchanged)
     if (r.anchor_q.size() > 0) mix(r.anchor_q.data(), r.anchor_q.size() * sizeof(double));
   return h;

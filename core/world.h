@@ -32,7 +32,13 @@ struct WorldState {
   ScopeState scope;
   std::vector<WallContact> wall;   ///< wall contacts found at the start of the last step
   std::vector<SelfContact> self;   ///< colon self-contacts found at the start of the last step
-  std::vector<WallTrack> track;    ///< per interaction point (segment-major): last spline location
+  /// Per interaction point: its spline location in the last step (core/contact_tracking.h),
+  /// segment-major (k * P + i, P = interaction_points_S.size()), then the tip face's points
+  /// (K * P + f).
+  std::vector<WallTrack> track;
+  /// Per slice of interaction points (k * slices_per_segment + slice): the spline location
+  /// of its centre on the scope's axis in the last step (the contact topology).
+  std::vector<WallTrack> slice_track;
   double max_wall_force_N = 0;     ///< largest interaction-point force in the last step [N]
   ContactLimitReport contact_limit;  ///< what the contact force limit did in the last step
   /// Abdominal pressure (core/abdominal_pressure.h), one entry per pressure of the scenario:
@@ -66,6 +72,17 @@ void stepWorld(const WorldModel& model, WorldState& state, const HandleInput& in
 /// The interaction point i of scope segment k in the world [m].
 inline Vec3 interactionPoint(const ScopeModel& m, const ScopeState& s, int k, int i) {
   return s.p_W[k] + s.R_WS[k] * m.interaction_points_S[i];
+}
+
+/// Tip face point f (ScopeModel::tip_face_points_S) in the world [m].
+inline Vec3 tipFacePoint(const ScopeModel& m, const ScopeState& s, int f) {
+  return s.p_W[0] + s.R_WS[0] * m.tip_face_points_S[f];
+}
+
+/// The centre of slice `slice` of scope segment k, on the scope's axis, in the world [m].
+inline Vec3 sliceCentre(const ScopeModel& m, const ScopeState& s, int k, int slice) {
+  const double z = m.interaction_points_S[static_cast<size_t>(slice) * m.params.points_per_slice].z();
+  return s.p_W[k] + s.R_WS[k] * Vec3(0, 0, z);
 }
 
 /// Places the scope along the colon's current centreline from the anus to depth

@@ -212,12 +212,12 @@ void WorldSimulation::measure() {
   // An earlier measure, net turning against the rest sigmoid's, called a straightened
   // sigmoid a half loop; a crossing is what an alpha loop looks like under fluoroscopy.
   {
-    const int P = static_cast<int>(scope.interaction_points_S.size());
+    const int slices = scope.params.slices_per_segment;
     std::vector<Vec3>& line = loop_line_;
     line.clear();
     line.push_back(scope.p_W_anus);
     for (int k = s.scope.inside - 1; k >= 0; --k) {
-      const int j = s.track[k * P].colon_segment;
+      const int j = s.slice_track[k * slices].colon_segment;
       if (j >= loop_last_) break;  // the scope has left the descending colon
       line.push_back(s.scope.p_W[k]);
     }
@@ -228,7 +228,7 @@ void WorldSimulation::measure() {
   // The view from the tip: red-out, lumen ahead, wall patches seen.
   const Mat3& R = s.scope.R_WS[0];
   const Vec3 forward = R.col(2);
-  const int tracked = s.track[0].colon_segment;
+  const int tracked = s.slice_track.empty() ? -1 : s.slice_track[scope.params.slices_per_segment - 1].colon_segment;
   const ClosestPoint ahead = nearestAround(s.colon.q, tracked, tip + kRedoutDistance_m * forward);
   t.tip_against_wall = ahead.distance > colon.radiusAt(ahead.segment, ahead.p);
   const ClosestPoint here = nearestAround(s.colon.q, tracked, tip);

@@ -166,19 +166,17 @@ TEST(ContactQuery, RobustQueryStaysOnTheTrackedPartOfALoop) {
   EXPECT_GT(m.colon.arclengthAt(snapped.colon_segment, snapped.p), 0.25);  // part B
   for (const WallContact& c : scan_state.wall) EXPECT_FALSE(c.scope_segment == k && c.point == 0);
 
-  // The robust query, tracked in part A, keeps the point in A and pushes it back.
+  // The robust query follows the scope from the anus along part A, keeps the point in A
+  // and pushes it back.
   FclContactQuery fcl(m);
-  const int P = static_cast<int>(m.scope.interaction_points_S.size());
-  for (int i = 0; i < P; ++i) s.track[k * P + i] = {6, 0.5};  // part A, near x = 0.1 m
   fcl.findWallContacts(m, s);
   expectTopPointOnPartAsWall(m, s);
 }
 
-// The other way round: a segment whose tracks were carried to part B of the hairpin while
-// the scope lies in part A (its neighbour towards the anus tracked in A). Its slices lie
-// deeper in A, so the query takes them back to A and the point pressed 2 mm beyond A's wall
-// touches it; kept in B (what the far-part rule alone did) the point is inside B's lumen
-// and the wall pushing the scope back is missing (docs/hardening.md, "Contact tracking").
+// Tracks are a function of the configuration: a segment whose tracks were carried to part
+// B of the hairpin while the scope lies in part A is found in A again, and the point pressed
+// 2 mm beyond A's wall touches it; kept in B the point would be inside B's lumen and the
+// wall pushing the scope back would be missing (docs/hardening.md, "Contact tracking").
 TEST(ContactQuery, TracksCarriedToAnotherPartComeBackToTheScopesPath) {
   const double r = 0.017;
   const WorldModel m = worldFromPoints(hairpin(r), r, 1000, 20, Vec3::Zero());

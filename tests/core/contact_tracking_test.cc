@@ -21,7 +21,7 @@ class EverySegment final : public TrackingCandidates {
                               const SplineLocation& local) override {
     SplineLocation other;
     for (int j = 0; j < static_cast<int>(cubics.size()); ++j)
-      if (local.j < 0 || std::abs(j - local.j) > 1) considerSegment(cubics, j, x, other);
+      if (std::abs(j - local.j) > 1) considerSegment(cubics, j, x, other);
     return other;
   }
 };
@@ -68,10 +68,10 @@ TEST(ContactTracking, WalkReachesTheLocalMinimumAlongTheSpline) {
   EXPECT_LT(walkToNearest(cubics, x, -1).j, 0);  // nothing tracked: no walk
 }
 
-// A point tracked on part A of a hairpin, 6-8 mm outside A's wall and inside B's lumen:
-// rule 3 keeps it on A while it is within A's radius plus the margin (1 cm), and lets B
-// take over beyond. Untracked, it takes the nearest part, B.
-TEST(ContactTracking, AFarPartTakesOverOnlyBeyondTheTrackedLumensReach) {
+// A point reached by walking along part A of a hairpin stays on A however far it is pushed
+// towards B: 8 mm beyond A's wall (inside B's lumen), or deep in B's lumen. Walking from B
+// it is on B. The paper's scan would take B every time (the nearer centreline).
+TEST(ContactTracking, APointNeverChangesPartThroughTheWall) {
   const double r = 0.02, gap = 0.05;
   const WorldModel m = worldFromPoints(hairpin(gap), r);
   ContactTracker tracker(m);
@@ -79,18 +79,38 @@ TEST(ContactTracking, AFarPartTakesOverOnlyBeyondTheTrackedLumensReach) {
   tracker.updateCubics(rest);
   EverySegment candidates;
   auto partAt = [&](const SplineLocation& at) { return m.colon.arclengthAt(at.j, at.p) < 0.2 ? 'A' : 'B'; };
-  const int on_a = 10;  // x = 0.1 m
-  const Vec3 within(0.1, 0.028, 0), beyond(0.1, 0.031, 0);
-  EXPECT_EQ(partAt(tracker.nearestTracked(m, within, on_a, 0, candidates)), 'A');
-  EXPECT_EQ(partAt(tracker.nearestTracked(m, beyond, on_a, 0, candidates)), 'B');
-  EXPECT_EQ(partAt(tracker.nearestTracked(m, within, -1, 0, candidates)), 'B');
+  const SplineLocation on_a{10, 0.0};  // x = 0.1 m
+  SplineLocation on_b;
+  for (int j = 0; j + 1 < m.colon.n; ++j)
+    if (m.colon.s_rest_m(j) > 0.25 && std::abs(rest.q(0, j) - 0.1) < 0.006) on_b = {j, 0.0};
+  ASSERT_GE(on_b.j, 0);
+  for (double y : {0.028, 0.031, 0.045}) {
+    const Vec3 x(0.1, y, 0);
+    EXPECT_EQ(partAt(tracker.nearestOnPart(m, x, on_a, 0, candidates)), 'A') << "y = " << y;
+    EXPECT_EQ(partAt(tracker.nearestOnPart(m, x, on_b, 0, candidates)), 'B') << "y = " << y;
+  }
 }
 
-TEST(ContactTracking, ANearerLocationCloseAlongTheColonAlwaysTakesOver) {
-  const WorldModel m = worldFromPoints(straight(0.6), 0.02);
-  const SplineLocation local{10, 0.5, 0.05}, other{13, 0.5, 0.01};  // 4.5 cm apart: < pi radii
-  const SplineLocation kept = keepTrackedPart(m, local, other);
-  EXPECT_EQ(kept.j, 13);
+// A pleat: the colon folded back and forth (a zig-zag of 1.5 cm chords within 2 cm of the
+// scope's axis) stays near a point on the axis; the other arm of a hairpin 5 cm away is
+// reached through its 0.2 m long arm and U-turn.
+TEST(ContactTracking, TheColonStaysNearAPointThroughAPleatButNotRoundALoop) {
+  std::vector<Vec3> zig;
+  for (int i = 0; i < 12; ++i) zig.emplace_back(0.004 * i, (i % 2) ? 0.012 : -0.012, 0);
+  Points q(3, static_cast<int>(zig.size()));
+  for (size_t i = 0; i < zig.size(); ++i) q.col(static_cast<int>(i)) = zig[i];
+  std::vector<SegmentCubic> cubics;
+  updateSegmentCubics(q, cubics);
+  const Vec3 x(0.02, 0, 0);
+  EXPECT_TRUE(colonStaysNear(cubics, SplineLocation{0, 0.5}, SplineLocation{9, 0.5}, x, M_PI * 0.02));
+  EXPECT_FALSE(colonStaysNear(cubics, SplineLocation{0, 0.5}, SplineLocation{9, 0.5}, x, 0.01));
+
+  const WorldModel m = worldFromPoints(hairpin(0.05), 0.02);
+  updateSegmentCubics(m.colon.q_rest, cubics);
+  const Vec3 y(0.1, 0.025, 0);  // between the arms, opposite control point 10 of A
+  int on_b = 0;
+  while (!(m.colon.s_rest_m(on_b) > 0.25 && std::abs(m.colon.q_rest(0, on_b) - 0.1) < 0.006)) ++on_b;
+  EXPECT_FALSE(colonStaysNear(cubics, SplineLocation{10, 0.0}, SplineLocation{on_b, 0.0}, y, M_PI * 0.02));
 }
 
 // With every segment as a candidate and nothing ambiguous (a straight colon), the tracked

@@ -43,14 +43,21 @@ Points bent(double bend_m) {
 // Scratch for checkLumen.
 std::vector<double> arc;
 
-// Tracks as the contact query leaves them: every point on the colon location nearest it.
+// Tracks as the paper's scan leaves them: every point and slice centre on the colon
+// location nearest it (unambiguous on these colons).
 void trackNearest(const WorldModel& m, WorldState& s) {
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
-  for (int k = 0; k < s.scope.inside; ++k)
-    for (int i = 0; i < P; ++i) {
-      const ClosestPoint c = closestPointOnSpline(s.colon.q, interactionPoint(m.scope, s.scope, k, i));
-      s.track[k * P + i] = {c.segment, c.p};
-    }
+  const int slices = m.scope.params.slices_per_segment;
+  auto nearest = [&](const Vec3& x) {
+    const ClosestPoint c = closestPointOnSpline(s.colon.q, x);
+    return WallTrack{c.segment, c.p};
+  };
+  for (int k = 0; k < s.scope.inside; ++k) {
+    for (int i = 0; i < P; ++i) s.track[k * P + i] = nearest(interactionPoint(m.scope, s.scope, k, i));
+    for (int sl = 0; sl < slices; ++sl) s.slice_track[k * slices + sl] = nearest(sliceCentre(m.scope, s.scope, k, sl));
+  }
+  for (size_t f = 0; f < m.scope.tip_face_points_S.size(); ++f)
+    s.track[m.scope.segment_count * P + f] = nearest(tipFacePoint(m.scope, s.scope, static_cast<int>(f)));
 }
 
 TEST(LumenCheck, AScopeAlongTheCentrelineIsInsideWithContinuousTracks) {
@@ -71,7 +78,8 @@ TEST(LumenCheck, ASliceTrackedOnAFarPartIsAJumpAndAnExit) {
   trackNearest(m, s);
   // Slice 10 (one per segment) tracked 0.15 m deeper along the colon than it is.
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
-  const WallTrack t = s.track[10 * P];
+  const WallTrack t = s.slice_track[10];
+  s.slice_track[10] = {t.colon_segment + 10, t.p};
   for (int i = 0; i < P; ++i) s.track[10 * P + i] = {t.colon_segment + 10, t.p};
   const LumenCheck c = checkLumen(m, s, arc);
   // Its neighbours are 0.15 m -+ h away in arclength: the jump beyond h is 0.15 m.

@@ -104,7 +104,7 @@ TEST(ScenarioRuns, FreeInsertionHandleForcesOfTheClinicalOrder) {
   EXPECT_LT(r.peak_pull_N, 30.0);
   EXPECT_LT(r.peak_torque_Nm, 2.0);
   // The scripted insertion reaches the caecum: the tip within 3 cm of the caecal pole
-  // (time_to_caecum_s; measured: 201.4 s, 0.029 m), at the end of the 1.60 m colon.
+  // (time_to_caecum_s; measured: 227.7 s, 0.030 m), at the end of the 1.60 m colon.
   EXPECT_LE(r.min_tip_to_caecum_m, 0.03);
   ASSERT_TRUE(r.scores.at("time_to_caecum_s").is_number());
   EXPECT_GT(r.scores.at("time_to_caecum_s").get<double>(), 0.0);
