@@ -37,7 +37,7 @@ int runReplay(const ReplayOptions& o) {
 
   std::unique_ptr<Simulation> sim = makeWorldSimulation(plan.scenario);
   const double dt_s = sim->dt_s();
-  ProgressBar bar("replay", plan.session.steps, stderrIsTerminal());
+  ProgressBar bar(o.video.empty() ? "replay" : "replay (video)", plan.session.steps, stderrIsTerminal());
   RunHooks hooks;
   hooks.on_progress = [&](long done) { bar.update(done); };
   const std::shared_ptr<FrameExporter> frames = addFrameExport(hooks, o.frames, o.video, o.view, size, o.fps, dt_s);

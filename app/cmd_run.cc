@@ -96,7 +96,7 @@ int runScripted(const RunOptions& o) {
   std::unique_ptr<SessionWriter> writer;
   if (!o.record.empty()) writer = std::make_unique<SessionWriter>(o.record, sessionHeaderFor(scenario, COLOSIM_VERSION));
   RunHooks hooks;
-  ProgressBar bar("run " + scenario.name, steps, stderrIsTerminal());
+  ProgressBar bar("run " + scenario.name + (o.video.empty() ? "" : " (video)"), steps, stderrIsTerminal() && !o.json);
   hooks.on_progress = [&](long done) { bar.update(done); };
   double peak_push = 0, peak_pull = 0, peak_torque = 0, max_loop = 0;
   hooks.on_step = [&](const Telemetry& t) {

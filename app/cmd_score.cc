@@ -56,7 +56,7 @@ int runScore(const ScoreCommandOptions& o) {
     report = std::make_unique<ReportCollector>(o.sessions.size(), experts);
   }
   constexpr long kBarUnits = 1000;
-  ProgressBar bar("score", kBarUnits, stderrIsTerminal());
+  ProgressBar bar(o.report.empty() ? "score" : "score + report", kBarUnits, stderrIsTerminal() && !o.json);
   const std::vector<ReplayResult> results =
       replaySessions(o.sessions, makeWorldSimulation, o.threads,
                      [&](long done, long total) { bar.update(done * kBarUnits / std::max(total, 1L)); },
