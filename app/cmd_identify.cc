@@ -1,6 +1,7 @@
 // colosim identify DATA.csv [--json] [--report DIR] [--law-out FILE]: fits the paper's
 // Voigt law to a measured tension test, names the effects it misses, extends the law and
 // measures the gain (identify/tension/identify.h; docs/identification.md).
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -10,6 +11,7 @@
 #include "identify/insertion/report.h"
 #include "identify/tension/identify.h"
 #include "identify/tension/report.h"
+#include "trainer/progress.h"
 #include "trainer/tension_law_file.h"
 
 namespace colosim::app {
@@ -30,7 +32,10 @@ int runIdentifyInsertion(const IdentifyOptionsCli& o) {
   const Scenario scenario = findScenario(rec.scenario);
   const ReplaySetup setup = makeReplaySetup(scenario);
   InsertionIdentifyOptions opt;
+  ProgressBar bar("identify " + rec.scenario, 1000, stderrIsTerminal() && !o.json);
+  opt.on_progress = [&](long done, long planned) { bar.update(done * 1000 / std::max(planned, 1L)); };
   const InsertionIdentifyResult r = identifyInsertion(rec, setup, opt);
+  bar.finish();
   const nlohmann::json j = organIdentifyJson(rec, r);
   if (!o.law_out.empty())
     writeOrganParameters(o.law_out, scenario.params_path, r.extended, "colosim identify " + o.data);
@@ -53,7 +58,11 @@ int runIdentify(const IdentifyOptionsCli& o) {
   // Everything is read and computed before anything is written: a bad file changes nothing.
   if (measurementExperiment(o.data) == "insertion") return runIdentifyInsertion(o);
   const TensionTest test = readTensionTest(o.data);
-  const IdentifyResult r = identifyTension(test);
+  IdentifyOptions opt;
+  ProgressBar bar("identify tension", 1000, stderrIsTerminal() && !o.json);
+  opt.on_progress = [&](long done, long planned) { bar.update(done * 1000 / std::max(planned, 1L)); };
+  const IdentifyResult r = identifyTension(test, opt);
+  bar.finish();
   if (!o.law_out.empty()) {
     std::vector<double> sd;
     for (const ParamEstimate& p : r.extended.params)

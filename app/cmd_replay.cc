@@ -1,4 +1,4 @@
-// colosim replay SESSION [--frames DIR] [--view onboard|global|both] [--fps N]
+// colosim replay SESSION [--frames DIR] [--video FILE.mp4] [--view onboard|global|both] [--fps N]
 // [--size WxH] [--check]: re-simulates a recorded session.
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +19,7 @@ namespace {
 struct ReplayOptions {
   std::string session;
   std::string frames;
+  std::string video;
   std::string view = "onboard";
   double fps = 30;
   std::string size = "640x480";
@@ -30,16 +31,18 @@ int runReplay(const ReplayOptions& o) {
   const ReplayPlan plan = planReplay(o.session);
   const SizePx size = parseSize(o.size, 16);
   if (!o.frames.empty()) checkFramesDir(o.frames);
+  if (!o.video.empty()) checkVideoFile(o.video, o.view, size);
   for (const std::string& w : plan.warnings) std::cerr << "colosim: warning: " << w << "\n";
   if (plan.session.truncated) std::cerr << "colosim: " << plan.session.message << "\n";
 
   std::unique_ptr<Simulation> sim = makeWorldSimulation(plan.scenario);
   const double dt_s = sim->dt_s();
-  ProgressBar bar("replay", plan.session.steps, stderrIsTerminal());
+  ProgressBar bar(o.video.empty() ? "replay" : "replay (video)", plan.session.steps, stderrIsTerminal());
   RunHooks hooks;
   hooks.on_progress = [&](long done) { bar.update(done); };
-  if (!o.frames.empty()) addFrames(hooks, o.frames, o.view, size, o.fps, dt_s);
+  const std::shared_ptr<FrameExporter> frames = addFrameExport(hooks, o.frames, o.video, o.view, size, o.fps, dt_s);
   const ReplayResult r = replay(plan, *sim, hooks);
+  if (frames) frames->finish();
   bar.finish();
 
   std::printf("colosim replay %s: scenario %s, %ld steps (%.3f s at dt = %g s)%s\n", o.session.c_str(),
@@ -51,6 +54,7 @@ int runReplay(const ReplayOptions& o) {
   std::printf("  replay %s the recording%s\n", r.hashOk() ? "matches" : "DIFFERS FROM",
               r.final_hash_checked ? "" : " (checkpoints only: the session has no end line)");
   if (!r.hashOk()) std::printf("  %s\n", r.mismatch.c_str());
+  if (!o.video.empty()) std::printf("  video written in     %s (%ld frames)\n", o.video.c_str(), frames->frames());
   if (o.check && !r.hashOk()) {
     std::cerr << "colosim: --check failed: " << r.mismatch << "\n";
     return 1;
@@ -65,6 +69,8 @@ void addReplayCommand(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand("replay", "Re-simulate a recorded session from its inputs");
   cmd->add_option("SESSION", o->session, "session file (.jsonl)")->required();
   cmd->add_option("--frames", o->frames, "write frames (PNG) into this new or empty folder");
+  cmd->add_option("--video", o->video, "encode the frames (at --fps, --view, --size) into this new video file "
+                  "(H.264 in MP4 through FFmpeg; never overwrites a file)");
   cmd->add_option("--view", o->view, "which view the frames show")
       ->check(CLI::IsMember({"onboard", "global", "both"}))->capture_default_str();
   cmd->add_option("--fps", o->fps, "frames per simulated second")->check(CLI::Range(0.1, 1000.0))->capture_default_str();

@@ -1,5 +1,5 @@
-// colosim run SCENARIO [--duration S] [--record FILE] [--frames DIR] [--view ...] [--fps N]
-// [--size WxH] [--trace CSV] [--score] [--json]: a scenario's scripted inputs, headless, on the colon +
+// colosim run SCENARIO [--duration S] [--record FILE] [--frames DIR] [--video FILE.mp4] [--view ...]
+// [--fps N] [--size WxH] [--trace CSV] [--score] [--json]: a scenario's scripted inputs, headless, on the colon +
 // scope simulation. `settle` is the colon alone settling under gravity and its mesentery.
 #include <algorithm>
 #include <cmath>
@@ -33,6 +33,7 @@ struct RunOptions {
   std::string tension_law;  // law file (colosim identify --law-out); empty: the parameters' Voigt law
   std::string record;
   std::string frames;
+  std::string video;        // a new video file (FFmpeg: H.264 in MP4)
   std::string view = "onboard";
   double fps = 10;
   std::string size = "640x480";
@@ -87,6 +88,7 @@ int runScripted(const RunOptions& o) {
   if (!o.trace.empty() && std::filesystem::exists(o.trace))
     throw InputError(o.trace + ": exists (--trace never overwrites a file)");
   if (!o.frames.empty()) checkFramesDir(o.frames);
+  if (!o.video.empty()) checkVideoFile(o.video, o.view, size);
   WorldSimulation sim(scenario, law, o.query);
   const double dt_s = sim.dt_s();
   const long steps = o.duration_s > 0 ? std::lround(o.duration_s / dt_s) : scenario.steps();
@@ -94,7 +96,7 @@ int runScripted(const RunOptions& o) {
   std::unique_ptr<SessionWriter> writer;
   if (!o.record.empty()) writer = std::make_unique<SessionWriter>(o.record, sessionHeaderFor(scenario, COLOSIM_VERSION));
   RunHooks hooks;
-  ProgressBar bar("run " + scenario.name, steps, stderrIsTerminal());
+  ProgressBar bar("run " + scenario.name + (o.video.empty() ? "" : " (video)"), steps, stderrIsTerminal() && !o.json);
   hooks.on_progress = [&](long done) { bar.update(done); };
   double peak_push = 0, peak_pull = 0, peak_torque = 0, max_loop = 0;
   hooks.on_step = [&](const Telemetry& t) {
@@ -122,8 +124,9 @@ int runScripted(const RunOptions& o) {
                    t.tip_to_caecum_m, t.tip_arclength_m, t.mesentery_stretch, t.loop_turns);
     };
   }
-  if (!o.frames.empty()) addFrames(hooks, o.frames, o.view, size, o.fps, dt_s);
+  const std::shared_ptr<FrameExporter> frames = addFrameExport(hooks, o.frames, o.video, o.view, size, o.fps, dt_s);
   const RunResult r = runScenario(scenario, sim, writer.get(), hooks, steps);
+  if (frames) frames->finish();
   bar.finish();
   // The solvers could not keep up somewhere: say so (the session has the events).
   if (r.scores.value("solver_limited_steps", 0L) > 0)
@@ -168,6 +171,7 @@ int runScripted(const RunOptions& o) {
   std::printf("  final state hash     %s\n", hashToHex(r.final_state_hash).c_str());
   if (!o.record.empty()) std::printf("  session recorded in  %s\n", o.record.c_str());
   if (!o.frames.empty()) std::printf("  frames written in    %s\n", o.frames.c_str());
+  if (!o.video.empty()) std::printf("  video written in     %s (%ld frames)\n", o.video.c_str(), frames->frames());
   if (o.score) printScores(r.scores);
   return 0;
 }
@@ -184,6 +188,8 @@ void addRunCommand(CLI::App& app, Action& action) {
       ->check(CLI::Range(1e-3, 1e5));
   cmd->add_option("--record", o->record, "record the session into this file (JSON Lines)");
   cmd->add_option("--frames", o->frames, "write PNG frames into this new or empty folder");
+  cmd->add_option("--video", o->video, "encode the frames (at --fps, --view, --size) into this new video file "
+                  "(H.264 in MP4 through FFmpeg; never overwrites a file)");
   cmd->add_option("--view", o->view, "which view the frames show")
       ->check(CLI::IsMember({"onboard", "global", "both"}))->capture_default_str();
   cmd->add_option("--fps", o->fps, "frames per simulated second")->check(CLI::Range(0.1, 1000.0))->capture_default_str();

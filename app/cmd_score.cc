@@ -1,5 +1,6 @@
-// colosim score SESSION... [--json] [--threads N]: replays sessions headless and scores
-// them, on every core when given many; results in the order given.
+// colosim score SESSION... [--json] [--threads N] [--report DIR]: replays sessions headless
+// and scores them, on every core when given many; results in the order given; --report
+// writes HTML pages of them (trainer/session_report.h).
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -7,6 +8,7 @@
 #include "app/commands.h"
 #include "trainer/progress.h"
 #include "trainer/replay.h"
+#include "trainer/session_report.h"
 #include "trainer/strict_json.h"
 #include "trainer/world_simulation.h"
 
@@ -18,6 +20,7 @@ struct ScoreCommandOptions {
   std::vector<std::string> sessions;
   bool json = false;
   unsigned threads = 0;
+  std::string report;  // a new or empty folder
 };
 
 // One session's line in the output: where it came from, how faithful the replay was,
@@ -43,12 +46,21 @@ std::string num(const nlohmann::json& v, const char* fmt) {
 }
 
 int runScore(const ScoreCommandOptions& o) {
-  // replaySessions reads every session first: a bad one stops the batch before any work.
+  // replaySessions reads every session first: a bad one stops the batch before any work;
+  // the report folder and the expert sessions are checked before it too.
+  std::vector<ExpertSession> experts;
+  std::unique_ptr<ReportCollector> report;
+  if (!o.report.empty()) {
+    checkReportDir(o.report);
+    experts = loadExpertSessions();
+    report = std::make_unique<ReportCollector>(o.sessions.size(), experts);
+  }
   constexpr long kBarUnits = 1000;
-  ProgressBar bar("score", kBarUnits, stderrIsTerminal());
+  ProgressBar bar(o.report.empty() ? "score" : "score + report", kBarUnits, stderrIsTerminal() && !o.json);
   const std::vector<ReplayResult> results =
       replaySessions(o.sessions, makeWorldSimulation, o.threads,
-                     [&](long done, long total) { bar.update(done * kBarUnits / std::max(total, 1L)); });
+                     [&](long done, long total) { bar.update(done * kBarUnits / std::max(total, 1L)); },
+                     report ? report->hooks() : SessionHooksFactory());
   bar.finish();
   nlohmann::json all = nlohmann::json::array();
   for (size_t i = 0; i < results.size(); ++i) {
@@ -57,6 +69,11 @@ int runScore(const ScoreCommandOptions& o) {
     if (r.truncated) std::cerr << "colosim: warning: " << r.message << "\n";
     if (!r.hashOk()) std::cerr << "colosim: warning: replay differs from the recording: " << r.mismatch << "\n";
     all.push_back(sessionJson(r));
+  }
+  if (report) {
+    std::vector<SessionReportEntry> entries = report->takeEntries();
+    for (size_t i = 0; i < entries.size(); ++i) entries[i].scores = all[i];
+    writeSessionReport(o.report, entries, experts);
   }
   if (o.json) {
     std::cout << all.dump(2) << "\n";
@@ -77,6 +94,7 @@ int runScore(const ScoreCommandOptions& o) {
               << "  red-out                 " << num(j["redout_time_s"], "%.1f") << " s, lumen lost "
               << j["lumen_lost_count"].get<int>() << " times\n";
   }
+  if (report) std::cout << "Report written to " << o.report << "/index.html\n";
   return 0;
 }
 
@@ -89,6 +107,9 @@ void addScoreCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", o->json, "print a JSON array, one object per session in the order given");
   cmd->add_option("--threads", o->threads, "worker threads (0: every core)")->check(CLI::Range(0u, 1024u))
       ->capture_default_str();
+  cmd->add_option("--report", o->report, "write HTML pages into this new or empty folder: per session the timelines "
+                  "with the events marked and the global view at a few moments; the cohort against the expert "
+                  "sessions (gnuplot plots, nothing fetched from the network)");
   cmd->callback([&action, o] { action = [o]() -> int { return runScore(*o); }; });
 }
 

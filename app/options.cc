@@ -6,7 +6,6 @@
 #include <filesystem>
 
 #include "core/input_error.h"
-#include "trainer/scene_drawing.h"
 
 namespace colosim::app {
 
@@ -25,11 +24,31 @@ void checkFramesDir(const std::string& dir) {
     throw InputError(dir + ": exists and is not empty (frames never overwrite files)");
 }
 
-void addFrames(RunHooks& hooks, const std::string& dir, const std::string& view, const SizePx& size, double fps,
-               double dt_s) {
-  std::filesystem::create_directories(dir);
-  hooks.on_frame = makeFrameWriter(dir, view, size.width, size.height);
+void checkVideoFile(const std::string& path, const std::string& view, const SizePx& size) {
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) throw InputError(path + ": exists (--video never overwrites a file)");
+  const int width = view == "both" ? 2 * size.width : size.width;
+  if (width % 2 != 0 || size.height % 2 != 0)
+    throw InputError("--size " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                     ": a video needs an even width and height");
+}
+
+std::shared_ptr<FrameExporter> addFrameExport(RunHooks& hooks, const std::string& frames_dir,
+                                              const std::string& video, const std::string& view, const SizePx& size,
+                                              double fps, double dt_s) {
+  if (frames_dir.empty() && video.empty()) return nullptr;
+  if (!frames_dir.empty()) std::filesystem::create_directories(frames_dir);
   hooks.frame_every_steps = std::max(1L, std::lround(1.0 / (fps * dt_s)));
+  FrameExportOptions o;
+  o.frames_dir = frames_dir;
+  o.video_path = video;
+  o.view = view;
+  o.width_px = size.width;
+  o.height_px = size.height;
+  o.fps = 1.0 / (hooks.frame_every_steps * dt_s);  // real time: one frame per frame interval
+  auto exporter = std::make_shared<FrameExporter>(o);
+  hooks.on_frame = [exporter](const Simulation& sim, long steps_done) { (*exporter)(sim, steps_done); };
+  return exporter;
 }
 
 void printScores(const nlohmann::json& scores) {

@@ -1,11 +1,13 @@
 // What several subcommands share: option values parsed one way, result blocks printed one way.
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "core/tension_law.h"
+#include "trainer/frame_export.h"
 #include "trainer/replay.h"
 
 namespace colosim::app {
@@ -19,10 +21,16 @@ SizePx parseSize(const std::string& text, int min_px);
 
 /// --frames DIR: InputError unless DIR is new or empty (frames never overwrite files).
 void checkFramesDir(const std::string& dir);
-/// Writes frames of `view` at `size` into `dir` (created) every 1 / fps simulated seconds
-/// of a simulation stepping dt_s: the frame hooks of a run or replay.
-void addFrames(RunHooks& hooks, const std::string& dir, const std::string& view, const SizePx& size, double fps,
-               double dt_s);
+/// --video FILE: InputError unless FILE is new (a video never overwrites a file) and the
+/// image (twice the width for view "both") has an even width and height.
+void checkVideoFile(const std::string& path, const std::string& view, const SizePx& size);
+/// Frames of `view` at `size` every 1 / fps simulated seconds of a simulation stepping
+/// dt_s, as PNG files into `frames_dir` (created; "" for none) and/or a video (`video`, ""
+/// for none) playing at that rate: the frame hook of a run or replay. Call finish() on the
+/// result after the run.
+std::shared_ptr<FrameExporter> addFrameExport(RunHooks& hooks, const std::string& frames_dir,
+                                              const std::string& video, const std::string& view, const SizePx& size,
+                                              double fps, double dt_s);
 
 /// "  scores:" and one line per scalar score (run --score, train).
 void printScores(const nlohmann::json& scores);

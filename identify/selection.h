@@ -21,6 +21,10 @@ struct IdentifyOptions {
   /// Structure is "unexplained" when the best model's RMSE exceeds this multiple of the
   /// white-noise level.
   double unexplained_rmse_over_noise = 1.6;
+  /// Progress, for a progress bar: called with the work done and the work planned
+  /// (candidate fits, or batches of replays), possibly from worker threads. The plan is an
+  /// upper bound: what an early stop skips counts as done at the end.
+  std::function<void(long done, long planned)> on_progress;
 };
 
 /// What the selection knows of a fitted model: its effects and its errors.

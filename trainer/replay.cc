@@ -133,7 +133,8 @@ ReplayResult replay(const ReplayPlan& plan, Simulation& sim, const RunHooks& hoo
 
 std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session_paths,
                                          const SimulationFactory& factory, unsigned threads,
-                                         const std::function<void(long, long)>& on_progress) {
+                                         const std::function<void(long, long)>& on_progress,
+                                         const SessionHooksFactory& add_hooks) {
   // Read and check everything first: a bad file stops the batch before any work.
   std::vector<ReplayPlan> plans;
   plans.reserve(session_paths.size());
@@ -160,6 +161,7 @@ std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session
         std::unique_ptr<Simulation> sim = factory(plan.scenario);
         long reported = 0;
         RunHooks hooks;
+        if (add_hooks) add_hooks(i, plan, hooks);
         hooks.on_progress = [&](long done) {
           const long all = steps_done += done - reported;
           reported = done;

@@ -87,8 +87,13 @@ ReplayResult replay(const ReplayPlan& plan, Simulation& sim, const RunHooks& hoo
 /// one session per thread. Results
 /// come in the order given and do not depend on the number of threads. `on_progress`
 /// receives (steps done, steps total) over all sessions, from the worker threads.
+/// `add_hooks`, when given, is called on the worker thread before each session's replay
+/// with the session's index and plan, to add observers (on_step, on_frame) to its hooks
+/// (a report's timelines and views); their progress hook is the batch's.
+using SessionHooksFactory = std::function<void(size_t index, const ReplayPlan& plan, RunHooks& hooks)>;
 std::vector<ReplayResult> replaySessions(const std::vector<std::string>& session_paths,
                                          const SimulationFactory& factory, unsigned threads = 0,
-                                         const std::function<void(long, long)>& on_progress = {});
+                                         const std::function<void(long, long)>& on_progress = {},
+                                         const SessionHooksFactory& add_hooks = {});
 
 }  // namespace colosim

@@ -288,6 +288,9 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   std::vector<std::string> chosen;
   InsertionFit model;
 
+  // Progress in batches of replays: per round the grid, two refinements, three focus stages.
+  const long planned = 6L * o.max_effects;
+  long batches = 0;
   for (int round = 1; round <= o.max_effects; ++round) {
     if (round > 1) {
       // Explained to the noise: no model can pay, and the round's replays are saved.
@@ -316,6 +319,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
         }
       const std::vector<Prediction> preds = replayAll(setup, rec, jobs, o.threads);
       r.simulations += static_cast<int>(jobs.size());
+      if (o.on_progress) o.on_progress(std::min(++batches, planned), planned);
       const size_t first = with_current ? 1 : 0;
       if (with_current) {
         const Evaluated base_ev{{0.0}, {preds[0]}};
@@ -412,6 +416,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
 
   r.diagnosis = diagnosisText(r, o);
+  if (o.on_progress) o.on_progress(planned, planned);
   return r;
 }
 

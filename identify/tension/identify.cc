@@ -1,6 +1,7 @@
 #include "identify/tension/identify.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -553,7 +554,18 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   const FittedModel start = linearStart(w);
   w.ea_scale_N = d.ea_scale_N = std::max(1e-3, start.law.ea_N);
 
+  // Progress in fits: the base, each round's candidates, the exchange step, the two refits.
+  const long n_effects = static_cast<long>(tensionEffectNames().size());
+  long planned = 1 + 2;
+  for (int round = 1; round <= o.max_effects; ++round) planned += std::max(0L, n_effects - (round - 1));
+  if (o.max_effects == 2) planned += std::max(0L, n_effects - 2);
+  std::atomic<long> fits_done{0};
+  auto fitted = [&] {
+    const long done = ++fits_done;
+    if (o.on_progress) o.on_progress(done, planned);
+  };
   const Fit base = fitModel(w, {}, {thetaFrom(layout(w, {}), start, {})}, wr.fold, o.folds);
+  fitted();
   // Forward selection of effects by held-out error, BIC as the second opinion. The
   // candidates of a round are independent fits: two threads (this machine has two cores).
   Fit current = base;
@@ -569,6 +581,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       std::vector<std::string> effects = current.model.effects;
       effects.push_back(names[i]);
       cands[i] = fitModel(w, effects, startsFor(w, current.model, names[i]), wr.fold, o.folds);
+      fitted();
     });
     const int best = weighRound(round, current.model, candidatesOf(names, cands), o, &r.evidence);
     if (round == 1) round1 = cands, round1_names = names;
@@ -590,6 +603,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     std::vector<Fit> cands(names.size());
     runInParallel(names.size(), 2, [&](size_t i) {
       cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
+      fitted();
     });
     const int best = weighRound(3, current.model, candidatesOf(names, cands), o, &r.evidence);
     if (best >= 0) {
@@ -615,6 +629,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   r.unexplained = isUnexplained(r.extended_diagnostics, o);
 
   r.diagnosis = diagnosisText(r, o);
+  if (o.on_progress) o.on_progress(planned, planned);
   return r;
 }
 
