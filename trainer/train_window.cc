@@ -443,6 +443,7 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
     a->sim->scene(start_scene);
     window.globalCamera() = globalCameraFor(start_scene, 640.0 / 480.0);
     a->inset_frame = coronalFrameFor(start_scene.colon->q_rest, 1.0);
+    glfwSetWindowTitle(window.handle(), ("colosim train " + a->scenario.name).c_str());
     out.sessions.push_back(a->path);
     out.screens.push_back("session");
     a->loop->start();
