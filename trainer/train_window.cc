@@ -464,7 +464,10 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
     out.dt_s = session->sim->dt_s();
   };
   auto showCard = [&] {
-    card_expert = findExpertReference(experts, session->scenario.name);
+    // The references are for the shipped scenarios only (a scenario file of the same name
+    // elsewhere may differ): a shipped scenario's id is its name.
+    const Scenario& sc = session->scenario;
+    card_expert = sc.id == sc.name ? findExpertReference(experts, sc.name) : nullptr;
     card = scoreCard(session->result.scores, card_expert);
     out.score_card = scoreCardJson(card);
     out.screens.push_back("score_card");
