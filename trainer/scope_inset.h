@@ -21,7 +21,7 @@ struct CoronalFrame {
 /// A frame holding every point of `q` (3 x n, e.g. the colon's rest shape) with `margin_m`
 /// around it, widened on one axis so that x and z have the same scale in an inset of
 /// aspect width / height.
-CoronalFrame coronalFrameFor(const Points& q, double aspect, double margin_m = 0.03);
+CoronalFrame coronalFrameFor(const Points& q, double aspect, double margin_m = 0.05);
 
 /// The points projected into an inset of width_px x height_px (pixels from its top left,
 /// y down): (x, z) of each point mapped linearly from `frame`; points outside the frame
