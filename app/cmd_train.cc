@@ -15,7 +15,7 @@ namespace colosim::app {
 namespace {
 
 struct TrainOptions {
-  std::string scenario = "free_insertion";
+  std::string scenario;  // empty: the start screen, free_insertion preselected
   std::string size = "1280x480";
   bool json = false;
   TrainWindowOptions window;
@@ -23,7 +23,8 @@ struct TrainOptions {
 
 int runTrain(TrainOptions o) {
   // Every input is read and checked before a window or a file is opened.
-  const Scenario scenario = findScenario(o.scenario);
+  if (o.scenario.empty()) o.window.start_screen = true;
+  const Scenario scenario = findScenario(o.scenario.empty() ? "free_insertion" : o.scenario);
   const SizePx size = parseSize(o.size, 64);
   o.window.width_px = size.width, o.window.height_px = size.height;
   o.window.colosim_version = COLOSIM_VERSION;
@@ -31,12 +32,18 @@ int runTrain(TrainOptions o) {
   const PhysicsLoopStats& stats = r.loop.stats;
   const double physics_cpu_pct = stats.wall_s > 0 ? 100.0 * stats.cpu_s / stats.wall_s : 0.0;
   const char* lp = std::getenv("LP_NUM_THREADS");
+  auto orNull = [](const std::string& v) { return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(v); };
   if (o.json) {
-    nlohmann::json j{{"scenario", scenario.name},
-                     {"session", r.session_path},
+    nlohmann::json j{{"scenario", orNull(r.scenario)},
+                     {"session", orNull(r.session_path)},
+                     {"sessions", r.sessions},
+                     {"screens", r.screens},
+                     {"patient_position", orNull(r.patient_position)},
+                     {"ended_by", orNull(r.ended_by)},
                      {"steps", r.loop.steps},
                      {"simulated_s", r.loop.steps * r.dt_s},
                      {"wall_s", stats.wall_s},
+                     {"paused_s", stats.paused_s},
                      {"physics_steps_per_s", stats.steps_per_s},
                      {"dropped_steps", stats.dropped_steps},
                      {"physics_busy_pct", 100.0 * stats.busy_fraction},
@@ -53,13 +60,21 @@ int runTrain(TrainOptions o) {
                                        std::to_string(r.framebuffer_height_px)},
                      {"view", r.view},
                      {"lp_num_threads", lp ? nlohmann::json(lp) : nlohmann::json(nullptr)},
-                     {"final_state_hash", hashToHex(r.loop.final_state_hash)},
-                     {"scores", r.loop.scores}};
+                     {"final_state_hash", r.sessions.empty() ? nlohmann::json(nullptr)
+                                                             : nlohmann::json(hashToHex(r.loop.final_state_hash))},
+                     {"scores", r.loop.scores},
+                     {"score_card", r.score_card}};
     std::cout << j.dump() << "\n";
     return 0;
   }
-  std::printf("colosim train %s: %ld steps (%.3f s simulated) in %.2f s of wall time\n", scenario.name.c_str(),
-              r.loop.steps, r.loop.steps * r.dt_s, stats.wall_s);
+  if (r.sessions.empty()) {
+    std::printf("colosim train: no session was started\n");
+    return 0;
+  }
+  std::printf("colosim train %s (%s): %ld steps (%.3f s simulated) in %.2f s of wall time (%.2f s paused), "
+              "ended by %s\n",
+              r.scenario.c_str(), r.patient_position.c_str(), r.loop.steps, r.loop.steps * r.dt_s, stats.wall_s,
+              stats.paused_s, r.ended_by.c_str());
   std::printf("  physics              %.1f steps/s (target %.0f), %ld steps dropped, CPU %.0f %% of a core, "
               "step median %.2f ms, max %.2f ms\n",
               stats.steps_per_s, 1.0 / r.dt_s, stats.dropped_steps, physics_cpu_pct, stats.step_ms_median,
@@ -71,6 +86,8 @@ int runTrain(TrainOptions o) {
               r.load_average_1min);
   std::printf("  final state hash     %s\n", hashToHex(r.loop.final_state_hash).c_str());
   std::printf("  session recorded in  %s\n", r.session_path.c_str());
+  for (size_t k = 0; k + 1 < r.sessions.size(); ++k)
+    std::printf("  earlier session      %s\n", r.sessions[k].c_str());
   printScores(r.loop.scores);
   return 0;
 }
@@ -82,8 +99,11 @@ void addTrainCommand(CLI::App& app, Action& action) {
   TrainWindowOptions& w = o->window;
   CLI::App* cmd = app.add_subcommand("train", "Interactive trainer: drive the scope in a window, recorded")
                       ->footer(kTrainKeyHelp);
-  cmd->add_option("SCENARIO", o->scenario, "scenario file, or the name of one in assets/scenarios/")
-      ->capture_default_str();
+  cmd->add_option("SCENARIO", o->scenario,
+                  "scenario file, or the name of one in assets/scenarios/; without it the start screen "
+                  "(free_insertion preselected)");
+  cmd->add_flag("--start-screen", w.start_screen,
+                "open on the start screen even with SCENARIO (preselected there)");
   cmd->add_option("--record", w.record, "record the session into this new file (never overwritten)");
   cmd->add_option("--record-dir", w.record_dir,
                   "otherwise record into a new file YYYYMMDD-HHMMSS_SCENARIO.jsonl in this folder")

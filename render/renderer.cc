@@ -5,7 +5,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "render/overlay_font.h"
 
 namespace colosim {
 
@@ -172,21 +171,6 @@ void main() {
 }
 )";
 
-// Overlay text: rectangles in viewport pixels (top-left origin), one colour.
-const char* kTextVs = R"(#version 330 core
-layout(location = 0) in vec2 a_px;
-uniform vec2 u_size;  // viewport size [px]
-void main() {
-  gl_Position = vec4(a_px.x / u_size.x * 2.0 - 1.0, 1.0 - a_px.y / u_size.y * 2.0, 0.0, 1.0);
-}
-)";
-
-const char* kTextFs = R"(#version 330 core
-uniform vec4 u_rgba;
-out vec4 o_color;
-void main() { o_color = u_rgba; }
-)";
-
 GLuint compile(GLenum type, const char* src) {
   const GLuint s = glCreateShader(type);
   glShaderSource(s, 1, &src, nullptr);
@@ -298,14 +282,12 @@ void useViewport(const Viewport& vp) {
 
 struct Renderer::Gl {
   std::array<GLuint, 4> scene{};  // by MODE of kSceneFs
-  GLuint text = 0;
   GLuint warp = 0, warp_vao = 0;
   GLuint texture = 0;
   // The rectilinear target of the exact distortion (created on first use, resized as needed).
   GLuint exact_fbo = 0, exact_colour = 0, exact_depth = 0;
   int exact_w = 0, exact_h = 0;
   MeshBuffers colon, colon_global, scope;  // two colons: each view keeps its topology uploaded
-  GLuint text_vao = 0, text_vbo = 0;
   // The reduced-size target of the render scale (created on first use, resized as needed),
   // and the framebuffers bound before drawing into it.
   GLuint scaled_fbo = 0, scaled_colour = 0, scaled_depth = 0;
@@ -322,19 +304,11 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
     const std::string fs = "#version 330 core\n#define MODE " + std::to_string(mode) + "\n" + kSceneFs;
     gl_->scene[mode] = link(kSceneVs, fs.c_str());
   }
-  gl_->text = link(kTextVs, kTextFs);
   gl_->warp = link(kWarpVs, kWarpFs);
   glGenVertexArrays(1, &gl_->warp_vao);
   gl_->colon.create();
   gl_->colon_global.create();
   gl_->scope.create();
-  glGenVertexArrays(1, &gl_->text_vao);
-  glGenBuffers(1, &gl_->text_vbo);
-  glBindVertexArray(gl_->text_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, gl_->text_vbo);
-  glEnableVertexAttribArray(0);
-  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
-  glBindVertexArray(0);
 
   const Image tex = makeMucosaTexture(mucosa);
   glGenTextures(1, &gl_->texture);
@@ -351,7 +325,6 @@ Renderer::Renderer(const TubeOptions& tube, const MucosaOptions& mucosa)
 Renderer::~Renderer() {
   if (!glDeleteProgram) return;
   for (GLuint p : gl_->scene) glDeleteProgram(p);
-  glDeleteProgram(gl_->text);
   glDeleteProgram(gl_->warp);
   glDeleteVertexArrays(1, &gl_->warp_vao);
   if (gl_->exact_fbo) {
@@ -362,8 +335,6 @@ Renderer::~Renderer() {
   gl_->colon.destroy();
   gl_->colon_global.destroy();
   gl_->scope.destroy();
-  glDeleteVertexArrays(1, &gl_->text_vao);
-  glDeleteBuffers(1, &gl_->text_vbo);
   glDeleteTextures(1, &gl_->texture);
   if (gl_->scaled_fbo) {
     glDeleteFramebuffers(1, &gl_->scaled_fbo);
@@ -612,28 +583,6 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
   glDisable(GL_SCISSOR_TEST);
   glUseProgram(0);
   endScaled(vp, target);
-}
-
-void Renderer::drawText(const std::string& text, int x_px, int y_px, int scale,
-                        const std::array<float, 4>& rgba, const Viewport& vp) {
-  const std::vector<float> tris = textTriangles(text, x_px, y_px, scale);
-  if (tris.empty()) return;
-  useViewport(vp);
-  glDisable(GL_DEPTH_TEST);
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  glUseProgram(gl_->text);
-  glUniform2f(glGetUniformLocation(gl_->text, "u_size"), static_cast<float>(vp.width),
-              static_cast<float>(vp.height));
-  glUniform4f(glGetUniformLocation(gl_->text, "u_rgba"), rgba[0], rgba[1], rgba[2], rgba[3]);
-  glBindVertexArray(gl_->text_vao);
-  glBindBuffer(GL_ARRAY_BUFFER, gl_->text_vbo);
-  glBufferData(GL_ARRAY_BUFFER, tris.size() * sizeof(float), tris.data(), GL_STREAM_DRAW);
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(tris.size() / 2));
-  glBindVertexArray(0);
-  glDisable(GL_BLEND);
-  glDisable(GL_SCISSOR_TEST);
-  glUseProgram(0);
 }
 
 Image readFramebuffer(const Viewport& vp) {

@@ -66,12 +66,6 @@ class Renderer {
     drawGlobal(model, q, scope, camera, Viewport{0, 0, width, height});
   }
 
-  /// Text overlay in a tiny 5 x 7 bitmap font (digits, letters, . , : - + / % ( ) and
-  /// space; lower case drawn as upper case): the top-left corner of the text at pixel
-  /// (x, y) from the viewport's top left, each font pixel `scale` screen pixels.
-  void drawText(const std::string& text, int x_px, int y_px, int scale, const std::array<float, 4>& rgba,
-                const Viewport& viewport);
-
   /// The last meshes built (for inspection and tests): the onboard view's colon, the
   /// global view's coarser colon, and the scope.
   const TubeMesh& colonMesh() const { return colon_mesh_; }

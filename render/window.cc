@@ -40,6 +40,7 @@ Window::Window(int width, int height, const std::string& title, bool visible) {
   glfwSetCursorPosCallback(window_, onCursor);
   glfwSetMouseButtonCallback(window_, onButton);
   glfwSetScrollCallback(window_, onScroll);
+  glfwSetKeyCallback(window_, onKey);
   makeCurrent();
   glfwSwapInterval(1);
 }
@@ -85,6 +86,13 @@ void Window::drawSplit(Renderer& renderer, const ColonModel& model, const Points
   renderer.drawGlobal(model, q, scope, orbit_, right, style);
 }
 
+void Window::clear(float r, float g, float b) {
+  glViewport(0, 0, framebufferWidth(), framebufferHeight());
+  glDisable(GL_SCISSOR_TEST);
+  glClearColor(r, g, b, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
 Image Window::read() const {
   return readFramebuffer(Viewport{0, 0, framebufferWidth(), framebufferHeight()});
 }
@@ -97,6 +105,7 @@ void Window::onButton(GLFWwindow* w, int button, int action, int mods) {
     glfwGetCursorPos(w, &x, &y);
     glfwGetWindowSize(w, &ww, &wh);
     if (x < self->global_left_ * ww) return;  // left of it is the onboard view: not steerable here
+    if (self->mouse_blocked_) return;         // on a widget
     self->drag_button_ = button;
     self->drag_pan_ = button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT);
     glfwGetCursorPos(w, &self->last_x_, &self->last_y_);
@@ -118,13 +127,24 @@ void Window::onCursor(GLFWwindow* w, double x, double y) {
     self->orbit_.orbit(-3.0 * dx, 3.0 * dy);
 }
 
+std::vector<int> Window::takeKeyPresses() {
+  std::vector<int> presses;
+  presses.swap(key_presses_);
+  return presses;
+}
+
+void Window::onKey(GLFWwindow* w, int key, int, int action, int) {
+  auto* self = static_cast<Window*>(glfwGetWindowUserPointer(w));
+  if (action == GLFW_PRESS && self->key_presses_.size() < 256) self->key_presses_.push_back(key);
+}
+
 void Window::onScroll(GLFWwindow* w, double, double dy) {
   auto* self = static_cast<Window*>(glfwGetWindowUserPointer(w));
   double x = 0, y = 0;
   int ww = 0, wh = 0;
   glfwGetCursorPos(w, &x, &y);
   glfwGetWindowSize(w, &ww, &wh);
-  if (x < self->global_left_ * ww) return;
+  if (x < self->global_left_ * ww || self->mouse_blocked_) return;
   self->orbit_.zoom(dy > 0 ? 0.9 : 1.0 / 0.9);
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "render/camera.h"
 #include "render/image.h"
@@ -34,6 +35,14 @@ class Window {
   /// Where the global view starts, as a fraction of the window's width: the mouse steers
   /// it right of there (0.5: split view, the default; 0: it fills the window; 1: hidden).
   void setGlobalViewLeft(double fraction) { global_left_ = fraction; }
+  /// While blocked, a mouse press does not start steering the global view (an ImGui
+  /// widget under the cursor takes it: Gui::wantsMouse).
+  void setMouseBlocked(bool blocked) { mouse_blocked_ = blocked; }
+
+  /// The keys pressed (GLFW key codes, in order) since the last call: presses are seen even
+  /// when the key was released again before the next poll (a busy frame), unlike the
+  /// state glfwGetKey gives.
+  std::vector<int> takeKeyPresses();
 
   /// The GLFW window, for polling keys and gamepads (colosim train).
   GLFWwindow* handle() { return window_; }
@@ -42,6 +51,9 @@ class Window {
   void drawSplit(Renderer& renderer, const ColonModel& model, const Points& q, const ScopeShape& scope,
                  const CameraPose& onboard, const OnboardOptics& optics = {}, const GlobalStyle& style = {});
 
+  /// Clears the whole back buffer to this colour (a screen with no view behind it).
+  void clear(float r, float g, float b);
+
   /// The current back buffer, top-down (before swapBuffers).
   Image read() const;
 
@@ -49,11 +61,14 @@ class Window {
   static void onCursor(GLFWwindow* w, double x, double y);
   static void onButton(GLFWwindow* w, int button, int action, int mods);
   static void onScroll(GLFWwindow* w, double dx, double dy);
+  static void onKey(GLFWwindow* w, int key, int scancode, int action, int mods);
 
   GLFWwindow* window_ = nullptr;
   OrbitCamera orbit_;
   bool orbit_framed_ = false;  // framed on the colon at the first draw
   double global_left_ = 0.5;   // the global view's left edge over the window's width
+  bool mouse_blocked_ = false;
+  std::vector<int> key_presses_;  // since the last takeKeyPresses
   int drag_button_ = -1;
   bool drag_pan_ = false;
   double last_x_ = 0, last_y_ = 0;

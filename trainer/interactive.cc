@@ -185,6 +185,23 @@ void PhysicsLoop::run() {
   Clock::time_point origin = t_start;  // step origin_step is due at origin
   long origin_step = 0;
   while (!stop_ && (options_.max_steps < 0 || steps_ < options_.max_steps)) {
+    // Pause: record the change at this step boundary, then idle without stepping.
+    if (pause_requested_ != paused_) {
+      paused_ = pause_requested_.load();
+      if (writer_) writer_->event(steps_, paused_ ? "paused" : "resumed");
+      if (paused_) {
+        ++stats_.pauses;
+      } else {
+        origin = Clock::now();  // pacing starts again from here: no catching up on the pause
+        origin_step = steps_;
+      }
+    }
+    if (paused_) {
+      const Clock::time_point idle_start = Clock::now();
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      stats_.paused_s += std::chrono::duration<double>(Clock::now() - idle_start).count();
+      continue;
+    }
     if (options_.real_time) {
       const Clock::time_point due = origin + std::chrono::duration_cast<Clock::duration>(dt * (steps_ - origin_step));
       const Clock::time_point now = Clock::now();
@@ -226,8 +243,9 @@ void PhysicsLoop::run() {
   stats_.steps = steps_;
   stats_.cpu_s = threadCpuSeconds() - cpu_start_s;
   stats_.wall_s = wall_s;
-  stats_.steps_per_s = wall_s > 0 ? steps_ / wall_s : 0.0;
-  stats_.busy_fraction = wall_s > 0 ? busy_s / wall_s : 0.0;
+  const double stepping_s = wall_s - stats_.paused_s;  // wall time not paused [s]
+  stats_.steps_per_s = stepping_s > 0 ? steps_ / stepping_s : 0.0;
+  stats_.busy_fraction = stepping_s > 0 ? busy_s / stepping_s : 0.0;
   stats_.step_ms_max = 1e3 * max_step_s;
   long seen = 0;
   for (int b = 0; b < kBins && steps_ > 0; ++b) {
@@ -240,7 +258,7 @@ void PhysicsLoop::run() {
   running_ = false;
 }
 
-PhysicsLoopResult PhysicsLoop::finish() {
+PhysicsLoopResult PhysicsLoop::finish(const std::string& ended_by) {
   if (thread_.joinable()) stop();
   if (finished_) throw std::logic_error("PhysicsLoop::finish: called twice");
   finished_ = true;
@@ -255,7 +273,10 @@ PhysicsLoopResult PhysicsLoop::finish() {
                            {"interactive",
                             {{"wall_s", stats_.wall_s},
                              {"steps_per_s", stats_.steps_per_s},
-                             {"dropped_steps", stats_.dropped_steps}}}};
+                             {"dropped_steps", stats_.dropped_steps},
+                             {"paused_s", stats_.paused_s},
+                             {"pauses", stats_.pauses}}}};
+    if (!ended_by.empty()) summary["interactive"]["ended_by"] = ended_by;
     writer_->end(steps_, r.final_state_hash, summary);
   }
   return r;

@@ -143,6 +143,8 @@ struct PhysicsLoopStats {
   double step_ms_max = 0.0;         ///< [ms]
   long max_lag_steps = 0;           ///< largest lag behind the clock seen at a step boundary [1]
   double cpu_s = 0.0;               ///< CPU time of the loop's thread over the loop [s]
+  double paused_s = 0.0;            ///< wall time spent paused (in wall_s, not in steps_per_s) [s]
+  int pauses = 0;                   ///< times the loop was paused [1]
 };
 
 /// What a finished loop leaves.
@@ -177,6 +179,15 @@ class PhysicsLoop {
   /// True while the loop thread runs (false once it reached max_steps or was stopped).
   bool running() const { return running_; }
 
+  /// Asks the loop to pause (no step is taken, simulated time stands still) or to go on,
+  /// at the next step boundary. The loop records each change as a session event "paused"
+  /// or "resumed" after the steps done so far, so the session says when the trainee
+  /// paused; the trajectory does not depend on it (the session is indexed by step, and
+  /// real-time pacing restarts from the resume instead of catching up).
+  void setPaused(bool paused) { pause_requested_ = paused; }
+  /// The loop is paused (it has seen the request and stopped stepping).
+  bool paused() const { return paused_; }
+
   /// Copies the newest published snapshot into `out` when it is newer than out.steps
   /// (or `out` has none yet); returns whether it copied.
   bool latest(Snapshot& out);
@@ -185,7 +196,9 @@ class PhysicsLoop {
   /// when recording, the scores and the measurements. Call once. When a step threw on
   /// the loop's thread, rethrows that error instead and writes no end line (the session
   /// then replays up to its last checkpoint, as after a crash).
-  PhysicsLoopResult finish();
+  /// `ended_by` (optional) says in the end line's summary how the session ended
+  /// (interactive.ended_by, e.g. "end", "restart", "close", "quit_after").
+  PhysicsLoopResult finish(const std::string& ended_by = "");
 
  private:
   void publish();
@@ -203,6 +216,8 @@ class PhysicsLoop {
   PhysicsLoopStats stats_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> running_{false};
+  std::atomic<bool> pause_requested_{false};
+  std::atomic<bool> paused_{false};
   std::thread thread_;
   std::exception_ptr error_;  ///< what a step threw on the loop's thread
 

@@ -24,6 +24,8 @@ SessionHeader sessionHeaderFor(const Scenario& scenario, const std::string& colo
   h.dt_s = scenario.dt_s;
   h.seed = scenario.seed;
   h.mode = "scripted";
+  if (scenario.patient_position_chosen && scenario.overrides.patient_position)
+    h.patient_position = *scenario.overrides.patient_position;
   return h;
 }
 
@@ -79,6 +81,8 @@ ReplayPlan planReplay(const std::string& session_path) {
                        " the session was recorded with does not exist");
     useParameterFile(p.scenario, h.params);
   }
+  // The patient position the trainee chose on the trainer's start screen.
+  if (!h.patient_position.empty()) choosePatientPosition(p.scenario, h.patient_position);
   // The recording's time step and seed rule (a run may have overridden the scenario's).
   p.scenario.dt_s = h.dt_s;
   p.scenario.seed = h.seed;

@@ -42,6 +42,10 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
   s.name = top.string("name");
   if (s.name.empty()) top.fail("name", "must not be empty");
   s.description = top.string("description");
+  if (top.has("goal")) {
+    s.goal = top.string("goal");
+    if (s.goal.empty() || s.goal.size() > 4000) top.fail("goal", "expected 1 to 4000 characters");
+  }
   s.anatomy_path = assetFile(top, "anatomy");
   s.params_path = assetFile(top, "params");
   s.dt_s = top.number("dt_s", 1e-5, 1e-2);
@@ -88,7 +92,7 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
     if (o.has("colon_axial_rigidity_N"))
       s.overrides.colon_axial_rigidity_N = o.number("colon_axial_rigidity_N", 1.0, 1e5);
     if (o.has("patient_position"))
-      s.overrides.patient_position = o.choice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
+      s.overrides.patient_position = o.choice("patient_position", patientPositions());
     o.finish();
   }
 
@@ -231,6 +235,24 @@ Parameters scenarioParameters(const Scenario& scenario) {
     params.colon.tension_EA_N = *scenario.overrides.colon_axial_rigidity_N;
   }
   return params;
+}
+
+const std::vector<std::string>& patientPositions() {
+  static const std::vector<std::string> positions{"left_lateral", "right_lateral", "supine", "prone"};
+  return positions;
+}
+
+std::string patientPositionOf(const Scenario& scenario) {
+  if (scenario.overrides.patient_position) return *scenario.overrides.patient_position;
+  return loadParameters(scenario.params_path).colon.patient_position;
+}
+
+void choosePatientPosition(Scenario& scenario, const std::string& position) {
+  const std::vector<std::string>& all = patientPositions();
+  if (std::find(all.begin(), all.end(), position) == all.end())
+    throw InputError("patient position '" + position + "': expected left_lateral, right_lateral, supine or prone");
+  scenario.overrides.patient_position = position;
+  scenario.patient_position_chosen = true;
 }
 
 std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path) {

@@ -68,6 +68,9 @@ struct AbdominalPressure {
 struct Scenario {
   std::string name;
   std::string description;
+  /// The manoeuvre's goal in a few sentences for the trainee (optional key "goal"; the
+  /// trainer's start screen shows it, or the description when it is empty).
+  std::string goal;
   std::string file;           ///< where it was read from
   uint64_t file_hash = 0;     ///< FNV-1a of the file's bytes
   /// How a session names it: the name for a shipped scenario (found again in
@@ -78,6 +81,9 @@ struct Scenario {
   /// params_path is not the file the scenario names but one given for the run
   /// (useParameterFile); sessions then record it.
   bool params_replaced = false;
+  /// overrides.patient_position is the trainee's choice (choosePatientPosition), not the
+  /// file's; sessions then record it.
+  bool patient_position_chosen = false;
   double dt_s = 1e-3;         ///< time step [s]
   double duration_s = 0.0;    ///< length of the scripted run [s]
   int seed = 0;               ///< seed of every random choice of the simulation
@@ -119,6 +125,15 @@ Parameters scenarioParameters(const Scenario& scenario);
 /// colon's axial rigidity to use, so the scenario's wall_friction and colon_axial_rigidity_N
 /// overrides are dropped; the wall friction's value is returned (empty: none).
 std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path);
+
+/// The patient positions a scenario can take (core/colon_model.h gravityForPosition).
+const std::vector<std::string>& patientPositions();
+/// The patient position the scenario runs with: its override, else its parameter file's.
+std::string patientPositionOf(const Scenario& scenario);
+/// Runs the scenario with the patient in `position` (the trainer's start screen), recorded
+/// in sessions (header key patient_position) so that replays use it. InputError for a
+/// position not in patientPositions().
+void choosePatientPosition(Scenario& scenario, const std::string& position);
 
 /// The scripted handle input at time t_s: linear between keyframes, the first keyframe
 /// before it, the last after it.

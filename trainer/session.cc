@@ -58,6 +58,8 @@ SessionHeader readHeader(JsonObject& o) {
   h.dt_s = o.number("dt_s", 1e-5, 1e-2);
   h.seed = o.integer("seed", 0, INT_MAX);
   h.mode = o.choice("mode", {"scripted", "interactive"});
+  if (o.has("patient_position"))
+    h.patient_position = o.choice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
   return h;
 }
 
@@ -200,6 +202,7 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
   j["dt_s"] = header.dt_s;
   j["seed"] = header.seed;
   j["mode"] = header.mode;
+  if (!header.patient_position.empty()) j["patient_position"] = header.patient_position;
   writeLine(j);
   std::fflush(f_);
 }

@@ -32,6 +32,9 @@ struct SessionHeader {
   double dt_s = 1e-3;           ///< time step [s]
   int seed = 0;
   std::string mode = "scripted";  ///< "scripted" (colosim run) or "interactive" (colosim train)
+  /// The patient position the trainee chose in place of the scenario's (colosim train's
+  /// start screen; optional key); empty: the scenario's own.
+  std::string patient_position;
 };
 
 /// The handle input from `step` on (steps are counted from 0; step k runs from

@@ -1,10 +1,14 @@
 // The interactive trainer's window (colosim train): a GLFW window on the calling thread
-// polls the keyboard and gamepad and draws the onboard and global views; the physics
-// loop (trainer/interactive.h) steps the colon + scope in real time on its own thread and
-// records the session.
+// polls the keyboard and gamepad and draws the onboard and global views with Dear ImGui
+// screens over them (a start screen, the live overlay with the scope-shape inset, the
+// score card); the physics loop (trainer/interactive.h) steps the colon + scope in real
+// time on its own thread and records the session. docs/trainer-window.md.
 #pragma once
 
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "trainer/interactive.h"
 #include "trainer/scenario.h"
@@ -16,7 +20,12 @@ extern const char* const kTrainKeyHelp;
 
 struct TrainWindowOptions {
   int width_px = 1280, height_px = 480;  ///< window size [px]
-  std::string record;                    ///< explicit session file (must not exist); empty: a new file in record_dir
+  /// Open on the start screen (choose the scenario, preselected, and the patient position;
+  /// read the goal and the keys); false: the session of the given scenario starts at once.
+  bool start_screen = false;
+  /// explicit session file (must not exist); empty: a new file in record_dir. Sessions
+  /// after the first (restart) go next to it as NAME-2.jsonl, NAME-3.jsonl, ...
+  std::string record;
   std::string record_dir = "sessions";
   std::string view = "both";             ///< at the start: onboard, global or both
   double quit_after_s = -1;              ///< wall seconds; negative: until the window closes
@@ -27,9 +36,16 @@ struct TrainWindowOptions {
   std::string colosim_version;           ///< recorded in the session header
 };
 
-/// What a window session leaves, for the exit summary.
+/// What a window session leaves, for the exit summary: the last session's figures, and
+/// the list of every session recorded.
 struct TrainWindowResult {
-  std::string session_path;
+  std::string session_path;            ///< the last session ("" when none was started)
+  std::string scenario;                ///< its scenario's name
+  std::string patient_position;        ///< its patient position
+  std::string ended_by;                ///< how it ended: end, restart, close, quit_after, error
+  std::vector<std::string> sessions;   ///< every session recorded, in order
+  std::vector<std::string> screens;    ///< the screens shown, in order (start, session, score_card)
+  nlohmann::json score_card;           ///< the last score card shown (scoreCardJson), null when none
   PhysicsLoopResult loop;
   double dt_s = 0;                     ///< the simulation's time step [s]
   long frames = 0;
@@ -41,9 +57,11 @@ struct TrainWindowResult {
   std::string view;                    ///< at the end
 };
 
-/// Runs a recorded interactive session of `scenario` in a window until it is closed
-/// (Escape), quit_after_s passes or the physics loop stops on an error. InputError before
-/// any window or file is opened when the screenshot or session file exists.
+/// Runs the trainer window on `scenario` (preselected on the start screen) until it is
+/// closed (Q, or Escape on the start screen or score card), quit_after_s passes or a
+/// physics loop stops on an error. Every session is recorded; restart starts a new one.
+/// InputError before any window or file is opened when the screenshot or session file
+/// exists or a shipped scenario or the expert references cannot be read.
 TrainWindowResult runTrainWindow(const Scenario& scenario, const TrainWindowOptions& options);
 
 }  // namespace colosim

@@ -11,7 +11,6 @@
 #include <memory>
 
 #include "render/offscreen_context.h"
-#include "render/overlay_font.h"
 #include "tests/fixture.h"
 #include "tests/render/render_fixture.h"
 
@@ -387,25 +386,6 @@ TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
     for (int x = 0; x < 200; ++x)
       for (int c = 0; c < 3; ++c) differing += std::abs(alone.at(x, y)[c] - img.at(x, y)[c]) > 2;
   EXPECT_EQ(differing, 0);
-}
-
-// The overlay font lights exactly its glyph pixels.
-TEST_F(RenderTest, TextOverlayDrawsTheGlyphs) {
-  ctx_->resize(200, 60);
-  const ColonModel colon = test::straightColon();
-  renderer_->drawGlobal(colon, colon.q_rest, ScopeShape{},
-                        frameBox(Vec3(-1, -1, -1), Vec3(-0.9, -0.9, -0.9), 1), 200, 60);
-  const std::string text = "12.5 CM";
-  renderer_->drawText(text, 10, 10, 3, {1, 1, 1, 1}, Viewport{0, 0, 200, 60});
-  const Image img = ctx_->read();
-  dump(img, "text");
-  int white = 0;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) white += img.at(x, y)[0] == 255 && img.at(x, y)[1] == 255;
-  const size_t lit = textTriangles(text, 0, 0, 1).size() / 12;  // 12 floats per font pixel
-  EXPECT_EQ(white, static_cast<int>(lit) * 9);
-  EXPECT_EQ(img.at(10 + 3 * 2 + 1, 10 + 1)[0], 255);  // "1": row 0 lights only column 2
-  EXPECT_LT(img.at(10 + 1, 10 + 1)[0], 255);
 }
 
 }  // namespace

@@ -336,6 +336,67 @@ TEST(PhysicsLoop, AStepErrorOnTheLoopThreadReachesTheCallerWithoutAnEndLine) {
   EXPECT_TRUE(s.truncated);
 }
 
+// Pause (colosim train's P): no step while paused, the pause recorded as two events at
+// the same step, and the trajectory that of a run never paused.
+TEST(PhysicsLoop, PauseStopsSimulatedTimeAndLeavesTheTrajectoryAlone) {
+  test::TempDir dir;
+  const Scenario sc = loadScenario(dir.write("small.json", test::smallScenarioText()));
+  SharedRates rates;
+  PhysicsLoopOptions opt;
+  opt.real_time = false;
+  opt.max_steps = 300;
+  uint64_t unpaused_hash = 0;
+  {
+    test::FakeSimulation sim(sc);
+    PhysicsLoop loop(sim, sc.scoring, nullptr, operatorSource(sc, sim.dt_s(), HandleLimits(), rates, true), opt);
+    loop.run();
+    unpaused_hash = loop.finish().final_state_hash;
+  }
+  const std::string path = dir.file("paused.jsonl");
+  test::FakeSimulation sim(sc);
+  SessionWriter writer(path, sessionHeaderFor(sc, "test"));
+  // The pause is asked for from the physics thread itself before step 100 (so the test
+  // does not race the loop): the loop sees it at the next boundary, after 101 steps.
+  const InputSource script = operatorSource(sc, sim.dt_s(), HandleLimits(), rates, true);
+  PhysicsLoop* loop_ptr = nullptr;
+  InputSource source = [&](long step, const HandleInput& prev) {
+    if (step == 100) loop_ptr->setPaused(true);
+    return script(step, prev);
+  };
+  PhysicsLoop loop(sim, sc.scoring, &writer, source, opt);
+  loop_ptr = &loop;
+  loop.start();
+  while (!loop.paused()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  Snapshot snap;
+  loop.latest(snap);
+  const long paused_at = snap.steps;
+  EXPECT_EQ(paused_at, 101);
+  for (int k = 0; k < 20; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    loop.latest(snap);
+    EXPECT_EQ(snap.steps, paused_at);  // simulated time stands still
+  }
+  EXPECT_TRUE(loop.running());
+  loop.setPaused(false);
+  while (loop.running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const PhysicsLoopResult r = loop.finish("end");
+  EXPECT_EQ(r.steps, 300);
+  EXPECT_EQ(r.stats.pauses, 1);
+  EXPECT_GT(r.stats.paused_s, 0.05);
+  EXPECT_EQ(r.final_state_hash, unpaused_hash);
+  const Session s = readSession(path);
+  ASSERT_EQ(s.events.size(), 3u);  // the fake's solver_limited at 150, paused, resumed
+  std::vector<std::string> names;
+  for (const SessionEvent& e : s.events)
+    if (e.name != "solver_limited") {
+      names.push_back(e.name);
+      EXPECT_EQ(e.step, paused_at);
+    }
+  EXPECT_EQ(names, (std::vector<std::string>{"paused", "resumed"}));
+  EXPECT_EQ(s.summary["interactive"]["ended_by"], "end");
+  EXPECT_EQ(s.summary["interactive"]["pauses"], 1);
+}
+
 TEST(PhysicsLoop, SnapshotsOnlyWhenNewer) {
   test::TempDir dir;
   const Scenario sc = loadScenario(dir.write("small.json", test::smallScenarioText()));

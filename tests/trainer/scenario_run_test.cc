@@ -13,6 +13,7 @@
 #include "fixture.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
+#include "trainer/score_card.h"
 #include "trainer/world_simulation.h"
 
 namespace colosim {
@@ -122,6 +123,18 @@ TEST(ScenarioRuns, FinalStatesAreThePinnedOnes) {
     std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(runOnce(name).final_state_hash));
     EXPECT_EQ(std::string(hex), golden.at(name).get<std::string>()) << name;
   }
+}
+
+// The trainer's score card compares sessions with assets/experts/references.json (made by
+// tools/make_expert_references.py from these runs): its scores must be what the runs give
+// today. Named FinalStates* so that it runs in the process that runs every scenario.
+TEST(ScenarioRuns, FinalStatesScoreAsTheExpertReferences) {
+  const std::vector<ExpertReference> refs = loadExpertReferences(expertReferencesPath());
+  ASSERT_FALSE(refs.empty());
+  for (const ExpertReference& r : refs)
+    EXPECT_EQ(r.scores, runOnce(r.expert).scores)
+        << r.scenario << ": the expert reference (" << r.expert << ") is stale; make it again with "
+        << "tools/make_expert_references.py build/app/colosim";
 }
 
 }  // namespace
