@@ -49,6 +49,8 @@ int weighRound(int round, const ModelScore& current, const std::vector<Candidate
   return best;
 }
 
+bool gainConfirmed(double heldout_rmse_ratio) { return heldout_rmse_ratio > 1.0; }
+
 bool noCandidateCanPay(double heldout_rmse_N, double noise_sd_N, const IdentifyOptions& o) {
   return heldout_rmse_N < o.min_heldout_ratio * noise_sd_N;
 }

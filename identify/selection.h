@@ -25,6 +25,9 @@ struct IdentifyOptions {
   /// (candidate fits, or batches of replays), possibly from worker threads. The plan is an
   /// upper bound: what an early stop skips counts as done at the end.
   std::function<void(long done, long planned)> on_progress;
+  /// Threads that fit the candidates of a round (a tool running many identifications at
+  /// once sets 1). The result does not depend on it.
+  int threads = 2;
 };
 
 /// What the selection knows of a fitted model: its effects and its errors.
@@ -75,6 +78,12 @@ bool candidatePays(double heldout_ratio, double delta_bic, const IdentifyOptions
 /// ties) chosen, and returns its index in `candidates`, or -1 when none pays.
 int weighRound(int round, const ModelScore& current, const std::vector<Candidate>& candidates,
                const IdentifyOptions& o, std::vector<CandidateEvidence>* evidence);
+
+/// One held-out measure (issue 17): an effect is named only when the held-out gain that is
+/// reported for it, baseline held-out RMSE / extended held-out RMSE on the selection's split,
+/// exceeds 1. A selection whose reported gain is at or below 1 names nothing, and the data
+/// are then unexplained (the selection saw structure that its effect does not confirm).
+bool gainConfirmed(double heldout_rmse_ratio);
 
 /// Explained to the noise: a candidate pays only if it brings the held-out RMSE below
 /// heldout_rmse_N / min_heldout_ratio; when that is under the white-noise level no model

@@ -227,8 +227,22 @@ Fit finishModel(const Data& d, const std::vector<ParamDef>& defs, const std::vec
       A.diagonal() *= 1.0 + 1e-9;  // Levenberg-Marquardt damping against exact null directions
       dx = -A.completeOrthogonalDecomposition().solve(g);
     }
-    for (int i = 0; i < np; ++i) th[i] = std::clamp(theta[i] + dx(i) * defs[i].scale, defs[i].lo, defs[i].hi);
-    if (!predict(d, defs, effects, th.data(), &pred)) pred = m.prediction_N;
+    // The step is kept only when it lowers the error on the training rows (the model is not
+    // linear far from the optimum: a full step along a poorly determined direction can
+    // overshoot); else it is halved, up to 4 times, and then the full fit is used.
+    double train0 = 0;
+    for (int k = 0; k < n; ++k)
+      if (fold[k] != fo) train0 += r(k) * r(k);
+    bool ok = false;
+    for (int halving = 0; halving <= 4 && !ok; ++halving, dx *= 0.5) {
+      for (int i = 0; i < np; ++i) th[i] = std::clamp(theta[i] + dx(i) * defs[i].scale, defs[i].lo, defs[i].hi);
+      if (!predict(d, defs, effects, th.data(), &pred)) continue;
+      double train = 0;
+      for (int k = 0; k < n; ++k)
+        if (fold[k] != fo) train += (pred[k] - d.test->force_N[k]) * (pred[k] - d.test->force_N[k]);
+      ok = train <= train0;
+    }
+    if (!ok) pred = m.prediction_N;
     for (int k = 0; k < n; ++k)
       if (fold[k] == fo) held += (pred[k] - d.test->force_N[k]) * (pred[k] - d.test->force_N[k]);
   }
@@ -512,7 +526,12 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
     s += "  " + e.effect + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
          fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
   }
-  if (r.effects.empty()) {
+  if (!r.refuted_effects.empty()) {
+    s += "Cause: none. The selection chose " + join(r.refuted_effects) +
+         fmt(" on its working set, but refitted on every row its held-out gain is %.3f (<= 1): ",
+             r.refuted_heldout_rmse_ratio) +
+         "not a cause. No effect is named; the Voigt law is reported.\n";
+  } else if (r.effects.empty()) {
     s += "Cause: none needed. No candidate pays for itself (held-out error cut by " +
          fmt("%.0f %% and BIC lowered by %.0f): ", 100 * (o.min_heldout_ratio - 1), -o.max_delta_bic) +
          "the Voigt law explains the data to the noise.\n";
@@ -525,7 +544,8 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
   }
   s += fmt("Remaining structure: RMSE %.4f N = %.2f x the white-noise level", ed.rmse_N, ed.rmse_N / std::max(1e-12, ed.noise_sd_N)) +
        fmt(" (lag-1 autocorrelation %.2f); ", ed.lag1_autocorrelation) +
-       (r.unexplained ? "UNEXPLAINED: structure remains that no candidate effect explains.\n"
+       (!r.refuted_effects.empty() ? "UNEXPLAINED: the selection found structure that no candidate confirms.\n"
+        : r.unexplained ? "UNEXPLAINED: structure remains that no candidate effect explains.\n"
                       : "explained to the noise.\n");
   return s;
 }
@@ -551,6 +571,9 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   prepare(work, &w);
   IdentifyResult wr;
   segment(w, &wr, o.folds);
+  // The reported models are scored on the selection's split: row k lies in block k / block
+  // of the working set and takes its fold (one held-out measure, issue 17).
+  for (size_t k = 0; k < test.rows(); ++k) r.fold[k] = wr.fold[std::min(k / block, wr.fold.size() - 1)];
   const FittedModel start = linearStart(w);
   w.ea_scale_N = d.ea_scale_N = std::max(1e-3, start.law.ea_N);
 
@@ -577,7 +600,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       if (std::find(current.model.effects.begin(), current.model.effects.end(), e) == current.model.effects.end())
         names.push_back(e);
     std::vector<Fit> cands(names.size());
-    runInParallel(names.size(), 2, [&](size_t i) {
+    runInParallel(names.size(), o.threads, [&](size_t i) {
       std::vector<std::string> effects = current.model.effects;
       effects.push_back(names[i]);
       cands[i] = fitModel(w, effects, startsFor(w, current.model, names[i]), wr.fold, o.folds);
@@ -601,7 +624,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     for (const std::string& e : tensionEffectNames())
       if (e != a && e != b) names.push_back(e);
     std::vector<Fit> cands(names.size());
-    runInParallel(names.size(), 2, [&](size_t i) {
+    runInParallel(names.size(), o.threads, [&](size_t i) {
       cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
       fitted();
     });
@@ -625,8 +648,17 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   r.working_rows = static_cast<int>(work.rows());
   r.heldout_rmse_ratio = r.baseline.heldout_rmse_N / r.extended.heldout_rmse_N;
   r.baseline_diagnostics = diagnose(d, r, r.baseline);
+  // One held-out measure: an effect whose reported gain is not above 1 is not a cause.
+  const bool refuted = !r.effects.empty() && !gainConfirmed(r.heldout_rmse_ratio);
+  if (refuted) {
+    r.refuted_effects = r.effects;
+    r.refuted_heldout_rmse_ratio = r.heldout_rmse_ratio;
+    r.effects.clear();
+    r.extended = r.baseline;
+    r.heldout_rmse_ratio = 1;
+  }
   r.extended_diagnostics = diagnose(d, r, r.extended);
-  r.unexplained = isUnexplained(r.extended_diagnostics, o);
+  r.unexplained = refuted || isUnexplained(r.extended_diagnostics, o);
 
   r.diagnosis = diagnosisText(r, o);
   if (o.on_progress) o.on_progress(planned, planned);

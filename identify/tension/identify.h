@@ -36,6 +36,10 @@ struct IdentifyResult {
   FittedModel extended;                 ///< with the chosen effects (= baseline if none)
   std::vector<std::string> effects;     ///< chosen effects, most important first
   double heldout_rmse_ratio = 1;        ///< baseline / extended held-out error
+  /// Effects the selection chose but whose held-out gain, refitted on every row, was not
+  /// above 1 (gainConfirmed): not named, and the data are unexplained. Empty otherwise.
+  std::vector<std::string> refuted_effects;
+  double refuted_heldout_rmse_ratio = 0;  ///< that gain
   bool unexplained = false;
   std::vector<CandidateEvidence> evidence;
   Diagnostics baseline_diagnostics, extended_diagnostics;
