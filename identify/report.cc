@@ -6,21 +6,11 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "trainer/report_files.h"
+
 namespace colosim {
 
 namespace {
-
-void writeText(const std::filesystem::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  if (!out) throw std::runtime_error(p.string() + ": cannot write the file");
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
 
 nlohmann::json candidateJson(const CandidateEvidence& e, bool with_magnitude) {
   nlohmann::json c = {{"round", e.round}, {"effect", e.effect}, {"model", e.model}, {"rmse_N", e.rmse_N},
@@ -82,13 +72,11 @@ void writeGnuplotReport(const std::string& dir, const std::vector<ReportFile>& d
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw std::runtime_error(dir + ": cannot create the report folder");
   const fs::path d(dir);
-  for (const ReportFile& f : data) writeText(d / f.name, f.text);
-  writeText(d / "report.gp", script);
-  writeText(d / "diagnosis.txt", diagnosis);
-  writeText(d / "identify.json", result.dump(2) + "\n");
-  const std::string cmd = "cd " + shellQuote(d.string()) + " && gnuplot report.gp > gnuplot.log 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("gnuplot failed (see " + (d / "gnuplot.log").string() + ")");
+  for (const ReportFile& f : data) writeReportText(d / f.name, f.text);
+  writeReportText(d / "report.gp", script);
+  writeReportText(d / "diagnosis.txt", diagnosis);
+  writeReportText(d / "identify.json", result.dump(2) + "\n");
+  runReportGnuplot(d);
 }
 
 }  // namespace colosim

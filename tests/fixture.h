@@ -58,4 +58,18 @@ inline std::string readFile(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// A command's exit code, stdout and stderr.
+struct CommandOutput : CommandResult {
+  std::string err;  ///< stderr
+};
+
+/// Runs a command line with its stderr captured through a file in `dir`.
+inline CommandOutput runCommandWithStderr(const std::string& command_line, const TempDir& dir) {
+  const std::string err_file = dir.file("stderr.txt");
+  CommandOutput r;
+  static_cast<CommandResult&>(r) = runCommand(command_line + " 2>" + err_file);
+  r.err = readFile(err_file);
+  return r;
+}
+
 }  // namespace colosim::test

@@ -12,6 +12,7 @@
 #include "core/input_error.h"
 #include "trainer/frame_export.h"
 #include "trainer/score.h"
+#include "trainer/report_files.h"
 
 namespace colosim {
 
@@ -92,18 +93,6 @@ std::string sessionStem(size_t i) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "session_%02zu", i + 1);
   return buf;
-}
-
-void writeText(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  if (!out) throw std::runtime_error(p.string() + ": cannot write the file");
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
 }
 
 const char* kStyle =
@@ -378,12 +367,12 @@ void writeSessionReport(const std::string& dir, const std::vector<SessionReportE
     all.push_back(e.scores);
     const std::string stem = sessionStem(i);
     if (!e.timeline.samples.empty()) {
-      writeText(d / (stem + "_timeline.dat"), timelineData(e.timeline));
+      writeReportText(d / (stem + "_timeline.dat"), timelineData(e.timeline));
       script << timelineScript(stem, e);
     }
     for (size_t k = 0; k < e.views.size(); ++k)
       writePng((d / (stem + "_view_" + std::to_string(k + 1) + ".png")).string(), e.views[k].image);
-    writeText(d / (stem + ".html"), sessionPage(i, e));
+    writeReportText(d / (stem + ".html"), sessionPage(i, e));
   }
   // The cohort: one strip plot per metric, the expert references as dashed lines.
   std::vector<std::string> plotted;
@@ -400,7 +389,7 @@ void writeSessionReport(const std::string& dir, const std::vector<SessionReportE
     if (points == 0) continue;
     plotted.push_back(m.key);
     const std::string name = std::string("cohort_") + m.key;
-    writeText(d / (name + ".dat"), dat.str());
+    writeReportText(d / (name + ".dat"), dat.str());
     script << "reset\nset terminal pngcairo noenhanced size 420,260 font ',9'\nset output '" << name << ".png'\n"
            << "set xrange [0.5:" << entries.size() + 0.5 << "]\nset xtics 1\nset xlabel 'session'\n"
            << "set ylabel '" << m.label << " [" << unitOf(m.key) << "]'\nset grid ytics\n"
@@ -414,12 +403,10 @@ void writeSessionReport(const std::string& dir, const std::vector<SessionReportE
                << kColours[colour++ % 4] << "' title '" << gnuplotText(expertLabel(x)) << "'";
     script << "\n";
   }
-  writeText(d / "index.html", cohortPage(entries, experts, plotted));
-  writeText(d / "score.json", all.dump(2) + "\n");
-  writeText(d / "report.gp", script.str());
-  const std::string cmd = "cd " + shellQuote(d.string()) + " && gnuplot report.gp > gnuplot.log 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    throw std::runtime_error("gnuplot failed (see " + (d / "gnuplot.log").string() + ")");
+  writeReportText(d / "index.html", cohortPage(entries, experts, plotted));
+  writeReportText(d / "score.json", all.dump(2) + "\n");
+  writeReportText(d / "report.gp", script.str());
+  runReportGnuplot(d);
 }
 
 }  // namespace colosim

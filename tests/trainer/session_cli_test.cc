@@ -18,16 +18,10 @@
 namespace colosim {
 namespace {
 
-struct Result : test::CommandResult {
-  std::string err;  // stderr
-};
+using Result = test::CommandOutput;
 
 Result run(const std::string& args, const test::TempDir& dir) {
-  const std::string err_file = dir.file("stderr.txt");
-  Result r;
-  static_cast<test::CommandResult&>(r) = test::runCommand(std::string(COLOSIM_EXE) + " " + args + " 2>" + err_file);
-  r.err = test::readFile(err_file);
-  return r;
+  return test::runCommandWithStderr(std::string(COLOSIM_EXE) + " " + args, dir);
 }
 
 std::string record(const test::TempDir& dir, const std::string& name, int seed) {
