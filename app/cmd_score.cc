@@ -89,7 +89,13 @@ int runScore(const ScoreCommandOptions& o) {
               << "  discomfort              index " << num(j["discomfort_index"], "%.2f") << " s, "
               << num(j["discomfort_time_pct"], "%.1f") << " % of the time\n"
               << "  loops                   " << num(j["loop_time_s"], "%.1f") << " s with a loop, largest "
-              << num(j["max_loop_turns"], "%.2f") << " turns\n"
+              << num(j["max_loop_turns"], "%.2f") << " turns, writhe " << num(j["loop_writhe_max"], "%.2f")
+              << " turns\n";
+    std::cout << "  shortest region         ";
+    const char* sep = "";
+    for (const auto& [region, ratio] : j["region_length_ratio_min"].items())
+      std::cout << sep << region << " " << num(ratio, "%.2f"), sep = ", ";
+    std::cout << " of rest length\n"
               << "  mucosa visualised       " << num(j["mucosa_visualised_pct"], "%.1f") << " %\n"
               << "  red-out                 " << num(j["redout_time_s"], "%.1f") << " s, lumen lost "
               << j["lumen_lost_count"].get<int>() << " times\n";

@@ -63,6 +63,8 @@ Telemetry ColonOnlySimulation::telemetry() const {
   t.tip_position_m = Vec3::Zero();  // no scope: the tip stays at the anus
   t.tip_to_caecum_m = state_.q.col(model_.n - 1).norm();
   t.mesentery_stretch = mesenteryStretch(model_, state_);
+  regionLengthRatios(model_, state_.q, t.region_length_ratio);
+  t.region_names = &model_.region_names;
   return t;
 }
 

@@ -49,6 +49,14 @@ void PhaseScore::add(const Telemetry& t, double dt_s, const Telemetry* prev) {
   // Loops.
   max_loop_turns = std::max(max_loop_turns, std::abs(t.loop_turns));
   if (std::abs(t.loop_turns) >= o_.loop_turns) loop_time_s += dt_s;
+  loop_writhe_max = std::max(loop_writhe_max, std::abs(t.loop_writhe));
+  // Pleating: the shortest each region gets.
+  if (t.region_names && t.region_names->size() == t.region_length_ratio.size()) {
+    for (size_t r = 0; r < t.region_length_ratio.size(); ++r) {
+      const auto [it, added] = region_length_ratio_min.emplace((*t.region_names)[r], t.region_length_ratio[r]);
+      if (!added) it->second = std::min(it->second, t.region_length_ratio[r]);
+    }
+  }
   // View.
   if (t.tip_against_wall) redout_time_s += dt_s;
   if (t.lumen_visible) lumen_visible_time_s += dt_s;
@@ -89,6 +97,10 @@ nlohmann::json PhaseScore::json() const {
   j["peak_mesentery_stretch"] = peak_mesentery_stretch;
   j["loop_time_s"] = loop_time_s;
   j["max_loop_turns"] = max_loop_turns;
+  j["loop_writhe_max"] = loop_writhe_max;
+  nlohmann::json ratios = nlohmann::json::object();
+  for (const auto& [name, ratio] : region_length_ratio_min) ratios[name] = ratio;
+  j["region_length_ratio_min"] = ratios;
   if (patch_count > 0) {
     int seen = 0;
     for (const auto& [id, s] : patch_seen_s)
@@ -132,7 +144,10 @@ void Scorer::add(const Telemetry& t) {
   total_.add(t, dt_s, prev);
   if (!time_to_caecum_s_) {
     insertion_.add(t, dt_s, prev);
-    if (t.tip_to_caecum_m <= o_.caecum_reach_m) time_to_caecum_s_ = t.time_s - o_.start_s;
+    if (t.tip_to_caecum_m <= o_.caecum_reach_m) {
+      time_to_caecum_s_ = t.time_s - o_.start_s;
+      insertion_at_caecum_m_ = t.inserted_m;
+    }
   } else {
     withdrawal_.add(t, dt_s, prev);
   }
@@ -143,6 +158,8 @@ void Scorer::add(const Telemetry& t) {
 nlohmann::json Scorer::json() const {
   nlohmann::json j = total_.json();
   j["time_to_caecum_s"] = time_to_caecum_s_ ? nlohmann::json(*time_to_caecum_s_) : nlohmann::json(nullptr);
+  j["insertion_at_caecum_m"] =
+      insertion_at_caecum_m_ ? nlohmann::json(*insertion_at_caecum_m_) : nlohmann::json(nullptr);
   j["insertion"] = insertion_.json();
   j["withdrawal"] = time_to_caecum_s_ ? withdrawal_.json() : nlohmann::json(nullptr);
   j["solver_limited_steps"] = limited_steps_;
@@ -174,7 +191,9 @@ const std::map<std::string, std::string>& Scorer::units() {
       {"excessive_pressure_time_s", "s"},
       {"discomfort_index", "s (time integral of mesentery stretch above the threshold)"},
       {"discomfort_time_pct", "%"}, {"peak_mesentery_stretch", "- (lifter load / colon weight)"},
-      {"loop_time_s", "s"}, {"max_loop_turns", "turns"}, {"mucosa_visualised_pct", "%"},
+      {"loop_time_s", "s"}, {"max_loop_turns", "turns"},
+      {"loop_writhe_max", "turns (writhe)"}, {"region_length_ratio_min", "- (present / rest length)"},
+      {"insertion_at_caecum_m", "m"}, {"mucosa_visualised_pct", "%"},
       {"redout_time_s", "s"}, {"lumen_lost_count", "1"}, {"lumen_visible_pct", "%"},
       {"tip_path_m", "m"}, {"insertion_path_m", "m"}, {"rotation_path_rad", "rad"},
       {"knob_path_rad", "rad"}, {"tip_path_per_insertion_path", "m/m"},

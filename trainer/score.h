@@ -66,6 +66,9 @@ class PhaseScore {
   double peak_mesentery_stretch = 0;  ///< [-]
   double loop_time_s = 0;             ///< time with a loop [s]
   double max_loop_turns = 0;          ///< largest |loop_turns| [turns]
+  double loop_writhe_max = 0;         ///< largest |loop_writhe| [turns]
+  /// Smallest present/rest length ratio reached by each anatomy region [-], by name.
+  std::map<std::string, double> region_length_ratio_min;
   double redout_time_s = 0;           ///< time with the tip against the wall [s]
   double lumen_visible_time_s = 0;    ///< time with the lumen in view [s]
   int lumen_lost_count = 0;           ///< lumen visible -> not visible transitions
@@ -91,13 +94,15 @@ class Scorer {
   explicit Scorer(const ScoreOptions& options = {});
   void add(const Telemetry& t);
   /// The scores as a JSON object: the keys of PhaseScore::json for the whole session,
-  /// plus time_to_caecum_s (null when not reached), "insertion", "withdrawal" (null when
+  /// plus time_to_caecum_s and insertion_at_caecum_m (null when not reached), "insertion", "withdrawal" (null when
   /// the caecum was not reached) and "units" (the unit of every key).
   nlohmann::json json() const;
   /// The unit of every key of json() ("1" for counts, "-" for ratios).
   static const std::map<std::string, std::string>& units();
 
   std::optional<double> time_to_caecum_s() const { return time_to_caecum_s_; }
+  /// Scope length past the anus when the caecum was first reached [m] (Telemetry::inserted_m).
+  std::optional<double> insertion_at_caecum_m() const { return insertion_at_caecum_m_; }
   /// Steps in which a solver limit engaged (Telemetry::solver_limited > 0), and runs of
   /// such steps (episodes), over the whole session including a scripted set-up: what the
   /// session's solver_limited events report (docs/hardening.md).
@@ -117,6 +122,7 @@ class Scorer {
   ScoreOptions o_;
   PhaseScore total_, insertion_, withdrawal_;
   std::optional<double> time_to_caecum_s_;
+  std::optional<double> insertion_at_caecum_m_;
   double last_time_s_;
   long limited_steps_ = 0, limited_episodes_ = 0;
   double max_track_jump_m_ = 0, max_wall_penetration_m_ = 0;

@@ -1,5 +1,6 @@
 #include "trainer/telemetry.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -55,6 +56,72 @@ double crossingLoopTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal
     }
   }
   return best;
+}
+
+double closedWrithe(const std::vector<Vec3>& polyline_m) {
+  // Drop null segments, then close the polygon with the chord from the last point back to
+  // the first (no chord when the line already ends where it starts).
+  std::vector<Vec3> p;
+  p.reserve(polyline_m.size() + 1);
+  for (const Vec3& x : polyline_m)
+    if (p.empty() || (x - p.back()).norm() >= 1e-9) p.push_back(x);
+  if (p.size() > 1 && (p.back() - p.front()).norm() < 1e-9) p.pop_back();
+  const int m = static_cast<int>(p.size());  // edges of the closed polygon: i -> i + 1 (mod m)
+  if (m < 4) return 0.0;                     // a triangle is planar
+  auto unit = [](const Vec3& a) -> Vec3 {
+    const double l = a.norm();
+    return l > 0 ? Vec3(a / l) : Vec3::Zero();
+  };
+  auto asinClamped = [](double x) { return std::asin(std::clamp(x, -1.0, 1.0)); };
+  double sum_sr = 0.0;  // sum of signed solid angles over unordered pairs of edges [sr]
+  for (int i = 0; i < m; ++i) {
+    const Vec3& p1 = p[i];
+    const Vec3& p2 = p[(i + 1) % m];
+    for (int j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;  // the closing edge is adjacent to edge 0
+      const Vec3& p3 = p[j];
+      const Vec3& p4 = p[(j + 1) % m];
+      // Klenin & Langowski (2000), method 1a: the solid angle under which edge j is seen
+      // from all points of edge i, over 4 pi, is the pair's contribution to the Gauss integral.
+      const Vec3 r13 = p3 - p1, r14 = p4 - p1, r23 = p3 - p2, r24 = p4 - p2;
+      const Vec3 n1 = unit(r13.cross(r14)), n2 = unit(r14.cross(r24));
+      const Vec3 n3 = unit(r24.cross(r23)), n4 = unit(r23.cross(r13));
+      const double omega = asinClamped(n1.dot(n2)) + asinClamped(n2.dot(n3)) + asinClamped(n3.dot(n4)) +
+                           asinClamped(n4.dot(n1));
+      const double orient = (p4 - p3).cross(p2 - p1).dot(r13);
+      if (orient > 0) sum_sr += omega;
+      else if (orient < 0) sum_sr -= omega;
+    }
+  }
+  // Wr = (1 / 4 pi) sum over ordered pairs = (1 / 2 pi) sum over unordered pairs.
+  return sum_sr / (2.0 * 3.14159265358979323846);
+}
+
+double writheClosedFarAway(const std::vector<Vec3>& polyline_m, const Vec3& out_start, const Vec3& out_end) {
+  if (polyline_m.size() < 2) return 0.0;
+  double extent_m = 0.0;
+  for (const Vec3& x : polyline_m) extent_m = std::max(extent_m, (x - polyline_m.front()).norm());
+  // Far enough that the rays' far ends and the segment joining them contribute less than
+  // 1e-6 turn (their solid angles fall as extent / distance).
+  const double far_m = 1e6 * std::max(extent_m, 1e-3);
+  std::vector<Vec3> closed;
+  closed.reserve(polyline_m.size() + 2);
+  closed.push_back(polyline_m.front() + far_m * out_start.normalized());
+  closed.insert(closed.end(), polyline_m.begin(), polyline_m.end());
+  closed.push_back(polyline_m.back() + far_m * out_end.normalized());
+  return closedWrithe(closed);
+}
+
+void regionLengthRatios(const ColonModel& colon, const Points& q, std::vector<double>& ratios) {
+  const size_t regions = colon.region_names.size();
+  std::vector<double> present_m(regions, 0.0), rest_m(regions, 0.0);
+  for (int j = 0; j + 1 < colon.n; ++j) {
+    const int r = colon.segment_region[j];
+    present_m[r] += (q.col(j + 1) - q.col(j)).norm();
+    rest_m[r] += colon.rest_length_m(j);
+  }
+  ratios.assign(regions, 0.0);
+  for (size_t r = 0; r < regions; ++r) ratios[r] = rest_m[r] > 0 ? present_m[r] / rest_m[r] : 1.0;
 }
 
 }  // namespace colosim

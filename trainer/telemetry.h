@@ -1,8 +1,10 @@
 // What a simulation reports after each step, for scoring and overlays: plain data.
 #pragma once
 
+#include <string>
 #include <vector>
 
+#include "core/colon_model.h"
 #include "core/handle_input.h"
 #include "core/spline.h"
 
@@ -34,6 +36,20 @@ struct Telemetry {
   /// loop, 0 when the projection does not cross itself (a straight or merely curved
   /// sigmoid, an N loop). Positive: anticlockwise seen from the front of the patient.
   double loop_turns = 0.0;
+  /// Loop measure in 3-D [turns]: the writhe of the same line (the scope from the anus
+  /// through the sigmoid and descending colon) closed far away by straight rays, out of the
+  /// anus and up from its far end (writheClosedFarAway below). About +-1 for an alpha loop whatever the view; near 0
+  /// for a straight or merely bent scope. Its sign is the loop's handedness.
+  double loop_writhe = 0.0;
+  /// Scope length past the anus [m]: the commanded insertion less the grip's slip (0
+  /// without a scope).
+  double inserted_m = 0.0;
+  /// Present over rest length of each anatomy region of the colon [-] (regionLengthRatios
+  /// below), by region index; its names in region_names. Below 1: the region is shortened,
+  /// pleated onto the scope. Empty when not measured.
+  std::vector<double> region_length_ratio;
+  /// Names of region_length_ratio's entries (the colon model's; must outlive the record).
+  const std::vector<std::string>* region_names = nullptr;
   bool tip_against_wall = false;  ///< red-out: the lens touches the mucosa
   bool lumen_visible = true;      ///< the lumen ahead is in the onboard view
   /// Wall patches lit and in the onboard view within 5 cm this step (ids in [0, patch_count)).
@@ -68,5 +84,27 @@ double netTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal);
 /// shorter than 1e-9 m after projection, and parallel segments, never cross.
 /// O(n^2) in the number of points (a few dozen here).
 double crossingLoopTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal);
+
+/// Writhe of the polyline closed by the straight chord from its last point to its first
+/// [turns]: the Gauss double integral over the closed polygon, (1 / 4 pi) times the sum of
+/// the signed solid angles of every pair of non-adjacent edges, each exact (Klenin &
+/// Langowski 2000, method 1a). 0 for a planar curve; about +-1 for a loop whose limbs cross
+/// with the sign of that crossing (knot theory's: +1 when the upper limb's direction crossed
+/// with the lower limb's points at the viewer, a right-handed crossing); it changes sign
+/// under a mirror image and is unchanged by rotation, translation and scale.
+/// Null segments are skipped. O(n^2).
+double closedWrithe(const std::vector<Vec3>& polyline_m);
+
+/// Writhe of the polyline closed far away [turns]: each end extended by a ray, the start
+/// along out_start and the end along out_end, the rays joined far from the curve (closedWrithe
+/// of that polygon). A chord between the ends of a loop passes close to its crossing, and the
+/// writhe jumps by 2 each time a limb moves through the chord; rays pointing away from the
+/// body (out of the anus, up the descending colon) are never crossed by the scope's loop.
+double writheClosedFarAway(const std::vector<Vec3>& polyline_m, const Vec3& out_start, const Vec3& out_end);
+
+/// Present over rest length of each region of the colon [-], by region index: the sum of
+/// the chord lengths |q_{j+1} - q_j| of the region's spline segments over the sum of their
+/// rest chord lengths (ColonModel::rest_length_m). `ratios` is resized to the region count.
+void regionLengthRatios(const ColonModel& colon, const Points& q, std::vector<double>& ratios);
 
 }  // namespace colosim

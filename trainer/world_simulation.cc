@@ -172,6 +172,7 @@ void WorldSimulation::measure() {
   const ScopeModel& scope = model_.scope;
   const WorldState& s = state_;
   Telemetry& t = telemetry_;
+  region_ratio_.swap(t.region_length_ratio);  // keep the storage across the reset
   t = Telemetry();
   t.time_s = s.colon.time_s;
   t.input = s.scope.input;
@@ -197,6 +198,10 @@ void WorldSimulation::measure() {
   t.tip_position_m = tip;
   t.tip_to_caecum_m = (tip - s.colon.q.col(colon.n - 1)).norm();
   t.mesentery_stretch = mesenteryStretch(colon, s.colon);
+  t.region_length_ratio.swap(region_ratio_);
+  regionLengthRatios(colon, s.colon.q, t.region_length_ratio);
+  t.region_names = &colon.region_names;
+  t.inserted_m = s.scope.inside > 0 ? s.scope.input.insertion_m - s.scope.grip_slip_m : 0.0;
   t.patch_count = (colon.n - 1) * kPatchSectors;
   if (s.scope.inside == 0) {
     t.lumen_visible = true;
@@ -223,6 +228,9 @@ void WorldSimulation::measure() {
     }
     if (line.size() == static_cast<size_t>(s.scope.inside) + 1) line.push_back(tip);
     t.loop_turns = crossingLoopTurns(line, Vec3(0, -1, 0));
+    // The same line in 3-D, closed far away: out of the anus against the entry direction,
+    // and up (cranially, along the descending colon) from its far end.
+    t.loop_writhe = writheClosedFarAway(line, -scope.R_W_entry.col(2), Vec3(0, 0, 1));
   }
 
   // The view from the tip: red-out, lumen ahead, wall patches seen.

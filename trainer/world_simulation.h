@@ -79,6 +79,7 @@ class WorldSimulation : public Simulation {
   void setSupport(double t_s);
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
+  std::vector<double> region_ratio_;  ///< scratch: storage of Telemetry::region_length_ratio [-]
   std::vector<double> lumen_arc_;  ///< scratch of checkLumen: present arclength at each control point [m]
 };
 

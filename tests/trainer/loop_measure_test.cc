@@ -1,7 +1,10 @@
 // The loop measure (trainer/telemetry.h, crossingLoopTurns): a crossing in projection
 // closes a loop whose turning number is counted; curves that do not cross count 0.
+#include <algorithm>
 #include <cmath>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include <gtest/gtest.h>
 
@@ -72,6 +75,115 @@ TEST(LoopMeasure, TwoTurnsOfASpiralCountTwo) {
   }
   p.emplace_back(0.0, 0.0, 0.0015);  // back across both turns, between their corners
   EXPECT_DOUBLE_EQ(std::abs(crossingLoopTurns(p, Vec3(0, 1, 0))), 2.0);
+}
+
+
+// --- The 3-D loop measure (closedWrithe) ---
+
+// The alpha loop above lifted out of its plane: y = lift * t, so the limbs pass each other
+// 2 * lift apart at the crossing.
+std::vector<Vec3> liftedAlpha(int sense, double lift_m) {
+  std::vector<Vec3> p = alpha(sense);
+  for (int i = 0; i <= 64; ++i) p[i].y() = lift_m * (-1.6 + 3.2 * i / 64);
+  return p;
+}
+
+// Brute force: the Gauss double integral (1 / 4 pi) sum over ordered pairs of distinct edges
+// of int int (t1 x t2) . (r1 - r2) / |r1 - r2|^3, with `nodes`-point Gauss-Legendre on each
+// edge of the closed polygon (adjacent edges are coplanar and contribute exactly 0).
+double gaussIntegralWrithe(const std::vector<Vec3>& open, int nodes) {
+  std::vector<Vec3> p = open;
+  const int m = static_cast<int>(p.size());
+  // Nodes and weights on [0, 1] by Newton on the Legendre polynomial.
+  std::vector<double> x(nodes), w(nodes);
+  for (int i = 0; i < nodes; ++i) {
+    double z = std::cos(kPi * (i + 0.75) / (nodes + 0.5)), dp = 0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = z;
+      for (int k = 2; k <= nodes; ++k) {
+        const double pk = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+        p0 = p1, p1 = pk;
+      }
+      dp = nodes * (z * p1 - p0) / (z * z - 1);
+      z -= p1 / dp;
+    }
+    x[i] = 0.5 * (1 - z);
+    w[i] = 1.0 / ((1 - z * z) * dp * dp);
+  }
+  double sum = 0;
+  for (int i = 0; i < m; ++i) {
+    const Vec3 a0 = p[i], a = p[(i + 1) % m] - a0;
+    for (int j = 0; j < m; ++j) {
+      if (j == i || j == (i + 1) % m || i == (j + 1) % m) continue;
+      const Vec3 b0 = p[j], b = p[(j + 1) % m] - b0;
+      for (int u = 0; u < nodes; ++u)
+        for (int v = 0; v < nodes; ++v) {
+          const Vec3 r = (a0 + x[u] * a) - (b0 + x[v] * b);
+          sum += w[u] * w[v] * a.cross(b).dot(r) / std::pow(r.norm(), 3);
+        }
+    }
+  }
+  return sum / (4 * kPi);
+}
+
+TEST(LoopWrithe, PlanarCurvesHaveNone) {
+  EXPECT_NEAR(closedWrithe(alpha(1)), 0.0, 1e-12) << "a planar alpha loop";
+  std::vector<Vec3> bend;
+  for (int i = 0; i <= 32; ++i) bend.emplace_back(0.1 * std::cos(kPi * i / 32), 0.0, 0.1 * std::sin(kPi * i / 32));
+  EXPECT_NEAR(closedWrithe(bend), 0.0, 1e-12) << "a half circle";
+}
+
+TEST(LoopWrithe, AnAlphaLoopWrithesAboutOneTurnWithItsHandedness) {
+  // As the loop flattens, its writhe tends to the sign of its one crossing.
+  double previous_error = 1.0;
+  for (double lift_m : {0.004, 0.001, 0.00025}) {
+    const double wr = closedWrithe(liftedAlpha(1, lift_m));
+    EXPECT_LT(std::abs(std::abs(wr) - 1.0), previous_error) << "converges, lift " << lift_m;
+    previous_error = std::abs(std::abs(wr) - 1.0);
+    // Its mirror images have the opposite handedness.
+    EXPECT_NEAR(closedWrithe(liftedAlpha(-1, lift_m)), -wr, 1e-12);
+    EXPECT_NEAR(closedWrithe(liftedAlpha(1, -lift_m)), -wr, 1e-12);
+  }
+  EXPECT_LT(previous_error, 0.05);
+  // Which limb lies in front decides the sign; the coronal crossing number cannot tell.
+  EXPECT_DOUBLE_EQ(std::abs(crossingLoopTurns(liftedAlpha(1, 0.001), Vec3(0, 1, 0))),
+                   std::abs(crossingLoopTurns(liftedAlpha(1, -0.001), Vec3(0, 1, 0))));
+}
+
+TEST(LoopWrithe, SignIsTheCrossingsInKnotTheory) {
+  // The lifted alpha loop crosses itself at t = -1 and t = +1; seen from +y the limb with
+  // the larger y (t = +lift) lies over the other. Knot theory's sign of a crossing: +1 when
+  // (over tangent x under tangent) points at the viewer (a right-handed crossing).
+  for (int sense : {1, -1})
+    for (double lift_m : {0.001, -0.001}) {
+      auto tangent = [&](double t) { return Vec3(sense * 0.06 * t, lift_m, 0.03 * (3 * t * t - 1)); };
+      const double t_over = lift_m > 0 ? 1.0 : -1.0;
+      const double sign = tangent(t_over).cross(tangent(-t_over)).y() > 0 ? 1.0 : -1.0;
+      EXPECT_GT(closedWrithe(liftedAlpha(sense, lift_m)) * sign, 0.9) << "sense " << sense << ", lift " << lift_m;
+    }
+}
+
+TEST(LoopWrithe, InvariantUnderRigidMotionAndScale) {
+  const std::vector<Vec3> p = liftedAlpha(1, 0.003);
+  const double wr = closedWrithe(p);
+  const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  std::vector<Vec3> moved;
+  for (const Vec3& x : p) moved.push_back(2.5 * (R * x) + Vec3(0.1, -0.2, 0.3));
+  EXPECT_NEAR(closedWrithe(moved), wr, 1e-12);
+}
+
+TEST(LoopWrithe, AgreesWithTheGaussIntegralByQuadrature) {
+  // A trefoil knot (writhe about 3.4 for this embedding) and the lifted alpha loop, each
+  // polygon's writhe against its Gauss integral summed by brute force.
+  std::vector<Vec3> trefoil;
+  for (int i = 0; i < 48; ++i) {
+    const double s = 2 * kPi * i / 48;
+    trefoil.emplace_back(std::sin(s) + 2 * std::sin(2 * s), std::cos(s) - 2 * std::cos(2 * s), -std::sin(3 * s));
+  }
+  for (const std::vector<Vec3>& p : {trefoil, liftedAlpha(1, 0.003)}) {
+    const double exact = closedWrithe(p);
+    EXPECT_NEAR(gaussIntegralWrithe(p, 24), exact, 2e-3 * std::max(1.0, std::abs(exact)));
+  }
 }
 
 }  // namespace

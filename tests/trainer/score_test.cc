@@ -57,6 +57,28 @@ TEST(Score, ExcessivePressureEpisodesNeedMoreThanHalfASecond) {
   EXPECT_EQ(s.json()["peak_wall_force_N"].get<double>(), 7.0);
 }
 
+TEST(Score, RegionLengthRatioAndWritheKeepTheirExtremesPerPhase) {
+  const std::vector<std::string> names = {"rectum", "sigmoid"};
+  Scorer s;
+  // The sigmoid shortens to 0.7 at 1 s and recovers; the rectum stretches (never below 1).
+  // The writhe swings to -1.1 at 0.5 s. The caecum is reached at 1.5 s.
+  feed(s, 2000, [&](long k, Telemetry& t) {
+    const double time_s = (k + 1) * kDt;
+    t.region_names = &names;
+    t.region_length_ratio = {1.0 + 0.1 * time_s, 1.0 - 0.3 * std::exp(-std::pow((time_s - 1.0) / 0.1, 2))};
+    t.loop_writhe = -1.1 * std::exp(-std::pow((time_s - 0.5) / 0.1, 2));
+    t.tip_to_caecum_m = time_s < 1.5 ? 1.0 : 0.0;
+  });
+  const nlohmann::json j = s.json();
+  EXPECT_NEAR(j["region_length_ratio_min"]["sigmoid"].get<double>(), 0.7, 1e-9);
+  EXPECT_NEAR(j["region_length_ratio_min"]["rectum"].get<double>(), 1.0001, 1e-9);
+  EXPECT_NEAR(j["loop_writhe_max"].get<double>(), 1.1, 1e-9);
+  // Withdrawal (after 1.5 s) saw neither the loop nor the shortening.
+  EXPECT_LT(j["withdrawal"]["loop_writhe_max"].get<double>(), 1e-6);
+  EXPECT_GT(j["withdrawal"]["region_length_ratio_min"]["sigmoid"].get<double>(), 0.999);
+  EXPECT_EQ(j["units"]["insertion_at_caecum_m"], "m");
+}
+
 TEST(Score, TimeToCaecumIsNullUntilReached) {
   Scorer never;
   feed(never, 2000, [](long, Telemetry& t) { t.tip_to_caecum_m = 0.031; });
@@ -64,10 +86,17 @@ TEST(Score, TimeToCaecumIsNullUntilReached) {
   EXPECT_TRUE(never.json()["withdrawal"].is_null());
   EXPECT_NEAR(never.json()["insertion"]["duration_s"].get<double>(), 2.0, 1e-9);
 
+  EXPECT_TRUE(never.json()["insertion_at_caecum_m"].is_null());
+
   Scorer reached;
-  // The tip closes in at 0.2 m/s from 1 m: within 3 cm at t = 4.85 s.
-  feed(reached, 6000, [](long k, Telemetry& t) { t.tip_to_caecum_m = std::max(0.0, 1.0 - 0.2 * (k + 1) * kDt); });
+  // The tip closes in at 0.2 m/s from 1 m: within 3 cm at t = 4.85 s, while the scope goes
+  // in at 0.25 m/s from 0.2 m: 0.2 + 0.25 * 4.85 = 1.4125 m inserted then (and more later).
+  feed(reached, 6000, [](long k, Telemetry& t) {
+    t.tip_to_caecum_m = std::max(0.0, 1.0 - 0.2 * (k + 1) * kDt);
+    t.inserted_m = 0.2 + 0.25 * (k + 1) * kDt;
+  });
   EXPECT_NEAR(reached.json()["time_to_caecum_s"].get<double>(), 4.85, 1.5e-3);
+  EXPECT_NEAR(reached.json()["insertion_at_caecum_m"].get<double>(), 1.4125, 0.25 * 1.5e-3);
 
   // Times count from the end of a scripted set-up.
   ScoreOptions o;

@@ -86,9 +86,15 @@ TEST(SessionCli, ScoreJsonIsOneObjectPerSessionInOrder) {
     for (const char* key : {"time_to_caecum_s", "peak_handle_force_N", "peak_wall_force_N",
                             "excessive_pressure_episodes", "discomfort_index", "discomfort_time_pct",
                             "loop_time_s", "max_loop_turns", "mucosa_visualised_pct", "redout_time_s",
-                            "lumen_lost_count", "insertion", "withdrawal", "units"})
+                            "lumen_lost_count", "insertion", "withdrawal", "units", "loop_writhe_max",
+                            "region_length_ratio_min", "insertion_at_caecum_m"})
       EXPECT_TRUE(o.contains(key)) << key;
     EXPECT_TRUE(o["time_to_caecum_s"].is_null());  // the colon alone never reaches the caecum
+    EXPECT_TRUE(o["insertion_at_caecum_m"].is_null());
+    // The colon alone, hanging: every region within a few % of its rest length.
+    ASSERT_TRUE(o["region_length_ratio_min"].contains("sigmoid")) << o["region_length_ratio_min"];
+    for (const auto& [region, ratio] : o["region_length_ratio_min"].items())
+      EXPECT_NEAR(ratio.get<double>(), 1.0, 0.05) << region;
     EXPECT_TRUE(o["state_hash_reproduced"].get<bool>());
     EXPECT_NEAR(o["duration_s"].get<double>(), 2.5, 1e-9);
   }
