@@ -229,6 +229,18 @@ void PhysicsLoop::run() {
       }
     }
     const Clock::time_point t0 = Clock::now();
+    {
+      AssistInput asked;
+      {
+        std::lock_guard<std::mutex> lock(assist_mutex_);
+        asked = assist_requested_;
+      }
+      if (asked != assist_) {
+        sim_.assist(asked);
+        if (writer_) writer_->assist(steps_, asked);
+        assist_ = asked;
+      }
+    }
     const HandleInput in = source_(steps_, input_);
     stepAndRecord(sim_, in, steps_, scorer_, writer_);
     input_ = in;

@@ -188,6 +188,14 @@ class PhysicsLoop {
   /// The loop is paused (it has seen the request and stopped stepping).
   bool paused() const { return paused_; }
 
+  /// Asks for the assistance `a` (AssistInput: the assistant's abdominal pressure, the
+  /// patient's position) from the next step boundary on. The loop applies it to the
+  /// simulation there and records it as a session assist line, so the replay reproduces it.
+  void requestAssist(const AssistInput& a) {
+    std::lock_guard<std::mutex> lock(assist_mutex_);
+    assist_requested_ = a;
+  }
+
   /// Copies the newest published snapshot into `out` when it is newer than out.steps
   /// (or `out` has none yet); returns whether it copied.
   bool latest(Snapshot& out);
@@ -220,6 +228,10 @@ class PhysicsLoop {
   std::atomic<bool> paused_{false};
   std::thread thread_;
   std::exception_ptr error_;  ///< what a step threw on the loop's thread
+
+  std::mutex assist_mutex_;
+  AssistInput assist_requested_;  ///< guarded by assist_mutex_
+  AssistInput assist_;            ///< in force (physics thread)
 
   std::mutex snapshot_mutex_;
   Snapshot back_;     ///< filled by the physics thread outside the lock

@@ -107,11 +107,13 @@ ReplayResult replay(const ReplayPlan& plan, Simulation& sim, const RunHooks& hoo
   r.message = s.message;
   r.warnings = plan.warnings;
   Scorer scorer(plan.scenario.scoring);
-  size_t next_input = 0, next_checkpoint = 0;
+  size_t next_input = 0, next_checkpoint = 0, next_assist = 0;
   HandleInput in;
   if (hooks.on_frame && hooks.frame_every_steps > 0) hooks.on_frame(sim, 0);
   for (long k = 0; k < s.steps; ++k) {
     while (next_input < s.inputs.size() && s.inputs[next_input].step == k) in = s.inputs[next_input++].input;
+    // The assistance recorded from this step on (an unknown position: the reader refused it).
+    while (next_assist < s.assists.size() && s.assists[next_assist].step == k) sim.assist(s.assists[next_assist++].assist);
     stepAndRecord(sim, in, k, scorer, nullptr, hooks);
     if (next_checkpoint < s.checkpoints.size() && s.checkpoints[next_checkpoint].step == k + 1) {
       const SessionCheckpoint& c = s.checkpoints[next_checkpoint++];

@@ -242,6 +242,14 @@ const std::vector<std::string>& patientPositions() {
   return positions;
 }
 
+std::string nextPatientPosition(const std::string& position) {
+  static const std::vector<std::string> order{"left_lateral", "supine", "right_lateral", "prone"};
+  const auto it = std::find(order.begin(), order.end(), position);
+  if (it == order.end())
+    throw InputError("patient position '" + position + "': expected left_lateral, right_lateral, supine or prone");
+  return order[(static_cast<size_t>(it - order.begin()) + 1) % order.size()];
+}
+
 std::string patientPositionOf(const Scenario& scenario) {
   if (scenario.overrides.patient_position) return *scenario.overrides.patient_position;
   return loadParameters(scenario.params_path).colon.patient_position;

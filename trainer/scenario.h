@@ -128,6 +128,10 @@ std::optional<double> useParameterFile(Scenario& scenario, const std::string& pa
 
 /// The patient positions a scenario can take (core/colon_model.h gravityForPosition).
 const std::vector<std::string>& patientPositions();
+/// The position a patient is turned to next, a quarter turn at a time about the body's long
+/// axis: left lateral, supine, right lateral, prone, left lateral again. InputError for a
+/// position not in patientPositions().
+std::string nextPatientPosition(const std::string& position);
 /// The patient position the scenario runs with: its override, else its parameter file's.
 std::string patientPositionOf(const Scenario& scenario);
 /// Runs the scenario with the patient in `position` (the trainer's start screen), recorded

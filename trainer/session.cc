@@ -97,7 +97,7 @@ Session parseSessionStream(std::istream& in, const std::string& file) {
       break;
     }
     JsonObject o(j, where);
-    const std::string type = o.choice("type", {"header", "input", "event", "checkpoint", "end"});
+    const std::string type = o.choice("type", {"header", "input", "assist", "event", "checkpoint", "end"});
     if (!have_header && type != "header") o.fail("type", "the first line must be the header, got '" + type + "'");
     if (have_header && type == "header") o.fail("type", "a second header");
 
@@ -117,6 +117,19 @@ Session parseSessionStream(std::istream& in, const std::string& file) {
       in.input = readHandleInput(o);
       s.inputs.push_back(in);
       last_step = in.step;
+    } else if (type == "assist") {
+      SessionAssist a;
+      a.line = line;
+      a.step = readStep(o, s.header.dt_s);
+      if (!s.assists.empty() && a.step <= s.assists.back().step)
+        o.fail("step", "assist steps must increase strictly (previous assist: step " +
+                           std::to_string(s.assists.back().step) + ")");
+      if (a.step < last_step)
+        o.fail("step", "steps must not decrease (previous line: step " + std::to_string(last_step) + ")");
+      a.assist.abdominal_pressure = o.boolean("abdominal_pressure");
+      a.assist.patient_position = o.choice("patient_position", {"left_lateral", "right_lateral", "supine", "prone"});
+      s.assists.push_back(a);
+      last_step = a.step;
     } else if (type == "event") {
       SessionEvent e;
       e.line = line;
@@ -230,6 +243,22 @@ void SessionWriter::input(long step, const HandleInput& in) {
   have_input_ = true;
   last_input_ = in;
   last_step_ = step;
+}
+
+void SessionWriter::assist(long step, const AssistInput& a) {
+  if (a == last_assist_) return;
+  if (a.patient_position.empty()) throw std::logic_error("SessionWriter: an assist line names the patient position");
+  if (step <= last_assist_step_) throw std::logic_error("SessionWriter: assist steps must increase");
+  nlohmann::json j;
+  j["type"] = "assist";
+  j["step"] = step;
+  j["t_s"] = static_cast<double>(step) * header_.dt_s;
+  j["abdominal_pressure"] = a.abdominal_pressure;
+  j["patient_position"] = a.patient_position;
+  writeLine(j);
+  std::fflush(f_);
+  last_assist_ = a;
+  last_assist_step_ = step;
 }
 
 void SessionWriter::event(long steps_done, const std::string& name, const std::string& detail) {

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/handle_input.h"
+#include "trainer/assist_input.h"
 
 namespace colosim {
 
@@ -45,6 +46,14 @@ struct SessionInput {
   int line = 0;  ///< line in the file (1-based)
 };
 
+/// The assistance (an assistant's abdominal pressure, the patient's position) from `step`
+/// on; none before the first such line.
+struct SessionAssist {
+  long step = 0;
+  AssistInput assist;
+  int line = 0;
+};
+
 /// Something that happened after `step` steps (for example "solver_limited").
 struct SessionEvent {
   long step = 0;
@@ -65,6 +74,7 @@ struct Session {
   SessionHeader header;
   std::vector<SessionInput> inputs;        ///< steps strictly increasing; the first at step 0
   std::vector<SessionEvent> events;
+  std::vector<SessionAssist> assists;      ///< steps strictly increasing
   std::vector<SessionCheckpoint> checkpoints;
   /// Steps to replay: the end line's count, or for a truncated file the last step a
   /// complete line vouches for.
@@ -104,6 +114,9 @@ class SessionWriter {
   /// The input of step `step` (called before that step, steps in order): written
   /// only when it differs from the previous one.
   void input(long step, const HandleInput& in);
+  /// The assistance from step `step` on (called before that step): written only when it
+  /// differs from the last one (none at first); flushed at once.
+  void assist(long step, const AssistInput& a);
   /// An event after `steps_done` steps; flushed at once.
   void event(long steps_done, const std::string& name, const std::string& detail = "");
   /// True when a checkpoint is due after `steps_done` steps (once per simulated second).
@@ -124,6 +137,8 @@ class SessionWriter {
   long last_step_ = -1;
   bool have_input_ = false;
   HandleInput last_input_;
+  AssistInput last_assist_;
+  long last_assist_step_ = -1;
 };
 
 }  // namespace colosim

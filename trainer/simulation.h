@@ -11,6 +11,7 @@
 
 #include "core/handle_input.h"
 #include "core/spline.h"
+#include "trainer/assist_input.h"
 #include "trainer/telemetry.h"
 
 namespace colosim {
@@ -50,6 +51,10 @@ class Simulation {
   virtual uint64_t stateHash() const = 0;
   /// Measurements of the last step.
   virtual Telemetry telemetry() const = 0;
+  /// The assistance in force from the next step on (AssistInput). A simulation without a
+  /// patient to press or turn (the colon alone, a test's fake) ignores it. An unknown
+  /// position is an InputError naming it.
+  virtual void assist(const AssistInput& a) { (void)a; }
   /// Events raised by the last step (for example "solver_limited"), recorded in sessions.
   virtual std::vector<SimulationEvent> events() const { return {}; }
   /// What to draw of the current state into `out`; false (out untouched) when this

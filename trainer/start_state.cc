@@ -16,10 +16,6 @@
 
 namespace colosim {
 
-namespace {
-
-// The spline segments [first, last] of a region of the colon; first = -1 when the anatomy
-// has no such region.
 std::pair<int, int> regionSegments(const ColonModel& colon, const std::string& region) {
   int first = -1, last = -1;
   for (int j = 0; j + 1 < colon.n; ++j) {
@@ -29,6 +25,8 @@ std::pair<int, int> regionSegments(const ColonModel& colon, const std::string& r
   }
   return {first, last};
 }
+
+namespace {
 
 // The start state's colon shape (ScenarioStart::shape_region): the region's control points
 // placed along the uniform Catmull-Rom curve through `waypoints` (ends extrapolated),

@@ -41,6 +41,10 @@ struct StartSpec {
 /// A scenario's start: its start state, abdominal pressure and first keyframe's input.
 StartSpec startSpecOf(const Scenario& scenario);
 
+/// The spline segments [first, last] of a region of the colon; first = -1 when the anatomy
+/// has no such region.
+std::pair<int, int> regionSegments(const ColonModel& colon, const std::string& region);
+
 /// An abdominal pressure resolved to the colon's spline segments.
 struct PressureSchedule {
   RegionSupport region;  ///< full densities

@@ -50,6 +50,11 @@ struct Telemetry {
   std::vector<double> region_length_ratio;
   /// Names of region_length_ratio's entries (the colon model's; must outlive the record).
   const std::vector<std::string>* region_names = nullptr;
+  bool abdominal_pressure = false;  ///< an assistant is pressing on the abdomen (AssistInput)
+  /// The patient's position (its target while the patient is being turned); empty when
+  /// the simulation does not say.
+  std::string patient_position;
+  bool patient_turning = false;     ///< the patient is being turned (gravity is rotating)
   bool tip_against_wall = false;  ///< red-out: the lens touches the mucosa
   bool lumen_visible = true;      ///< the lumen ahead is in the onboard view
   /// Wall patches lit and in the onboard view within 5 cm this step (ids in [0, patch_count)).

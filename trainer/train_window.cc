@@ -50,11 +50,14 @@ const char* const kTrainKeyHelp =
     "  mouse on the global view  left drag orbits, right drag pans, wheel zooms\n"
     "  P                         pause / go on (simulated time stands still)\n"
     "  R                         restart: end this session, start a new one\n"
+    "  H                         call for abdominal pressure / release it (an assistant's hand)\n"
+    "  T                         turn the patient: left lateral, supine, right lateral, prone\n"
     "  Escape                    end the session: the score card\n"
     "Score card: R restart, Enter or Space the start screen, Escape or Q quit.\n"
     "Gamepad (when GLFW finds one): left stick up/down push/pull, left stick left/right\n"
     "rotation, right stick the tip knobs, right bumper 3x speed, A centres the knobs, Back\n"
-    "cycles the view, Start pauses, Y restarts, B ends; on the screens the d-pad chooses, A\n"
+    "cycles the view, Start pauses, Y restarts, B ends, X abdominal pressure, left bumper\n"
+    "turns the patient; on the screens the d-pad chooses, A\n"
     "or Start confirms, B goes back. Every session is recorded without being asked\n"
     "(--record-dir, --record).";
 
@@ -154,7 +157,7 @@ void setRenderThreads(int render_threads) {
 
 
 // The screens' one-shot actions (on the press, not while held), from keys and the gamepad.
-enum Action { kUp, kDown, kLeft, kRight, kConfirm, kBack, kPause, kRestart, kQuit, kActionCount };
+enum Action { kUp, kDown, kLeft, kRight, kConfirm, kBack, kPause, kRestart, kQuit, kPressure, kTurn, kActionCount };
 
 class ActionKeys {
  public:
@@ -173,6 +176,8 @@ class ActionKeys {
       if (k == GLFW_KEY_P) pressed[kPause] = true;
       if (k == GLFW_KEY_R) pressed[kRestart] = true;
       if (k == GLFW_KEY_Q) pressed[kQuit] = true;
+      if (k == GLFW_KEY_H) pressed[kPressure] = true;
+      if (k == GLFW_KEY_T) pressed[kTurn] = true;
     }
     GLFWgamepadstate pad{};
     bool have_pad = false;
@@ -187,7 +192,9 @@ class ActionKeys {
                                               button(GLFW_GAMEPAD_BUTTON_B),
                                               button(GLFW_GAMEPAD_BUTTON_START),
                                               button(GLFW_GAMEPAD_BUTTON_Y),
-                                              false};
+                                              false,
+                                              button(GLFW_GAMEPAD_BUTTON_X),
+                                              button(GLFW_GAMEPAD_BUTTON_LEFT_BUMPER)};
     for (int a = 0; a < kActionCount; ++a) pressed[a] = pressed[a] || (down[a] && !pad_was_down_[a]);
     pad_was_down_ = down;
     return pressed;
@@ -195,7 +202,7 @@ class ActionKeys {
 
  private:
   // Down at the start counts as held: a button already down does nothing.
-  std::array<bool, kActionCount> pad_was_down_{true, true, true, true, true, true, true, true, true};
+  std::array<bool, kActionCount> pad_was_down_{true, true, true, true, true, true, true, true, true, true, true};
 };
 
 // One recorded session: the simulation, its writer and the physics loop that steps it.
@@ -212,6 +219,7 @@ struct ActiveSession {
   bool ended = false;
   PhysicsLoopResult result;
   std::string ended_by;
+  AssistInput assist;  ///< what the trainee last asked for (H, T)
 };
 
 // The file of the n-th session (n from 1) when --record names one: the name itself, then
@@ -269,6 +277,9 @@ void drawOverlay(const Snapshot& s, const ActiveSession& session, double fps, do
   if (std::abs(t.loop_turns) >= session.scenario.scoring.loop_turns)
     ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.25f, 1.0f), "LOOP %.2f turns: pull back and torque", std::abs(t.loop_turns));
   if (paused) ImGui::TextColored(ImVec4(1.0f, 0.85f, 0.2f, 1.0f), "PAUSED (P goes on)");
+  if (!t.patient_position.empty())
+    ImGui::TextColored(ImVec4(0.8f, 0.8f, 0.8f, 1.0f), "Patient %s%s%s", t.patient_position.c_str(),
+                       t.patient_turning ? " (turning)" : "", t.abdominal_pressure ? "   abdominal pressure ON" : "");
   ImGui::End();
 
   ImGui::SetNextWindowPos(ImVec2(8, height_px - 8), 0, ImVec2(0, 1));
@@ -276,7 +287,7 @@ void drawOverlay(const Snapshot& s, const ActiveSession& session, double fps, do
   ImGui::Begin("keys", nullptr, kPanel);
   ImGui::TextColored(ImVec4(0.8f, 0.8f, 0.8f, 1.0f),
                      "physics %.0f/s  draw %.0f fps   W/S push/pull  A/D rotate  I/K J/L tip  Space centre tip  "
-                     "Shift fast  1 2 3 view  P pause  R restart  Esc end",
+                     "Shift fast  1 2 3 view  H pressure  T turn  P pause  R restart  Esc end",
                      physics_hz, fps);
   ImGui::End();
   (void)width_px;
@@ -558,6 +569,16 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
       } else if (screen == Screen::kSession) {
         session->rates.set(ratesFromControls(controls));
         if (pressed[kPause]) session->loop->setPaused(!session->loop->paused());
+        if (pressed[kPressure] || pressed[kTurn]) {
+          // The assistance goes into the session as an assist line at the next step.
+          AssistInput& a = session->assist;
+          if (a.patient_position.empty())  // the position the session started in
+            a.patient_position = snap.telemetry.patient_position.empty() ? patientPositionOf(session->scenario)
+                                                                         : snap.telemetry.patient_position;
+          if (pressed[kPressure]) a.abdominal_pressure = !a.abdominal_pressure;
+          if (pressed[kTurn]) a.patient_position = nextPatientPosition(a.patient_position);
+          session->loop->requestAssist(a);
+        }
         if (pressed[kRestart]) {
           endSession("restart");
           Scenario again = session->scenario;

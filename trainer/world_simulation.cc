@@ -7,6 +7,8 @@
 #include <tuple>
 #include <utility>
 #include <iterator>
+#include <limits>
+#include <stdexcept>
 
 #include "core/colon_step.h"
 #include "core/input_error.h"
@@ -59,9 +61,105 @@ WorldSimulation::WorldSimulation(WorldModel model, const StartSpec& start, const
     : model_(std::move(model)) {
   query_ = makeContactQuery(model_, query_mode);
   restart(start);
+  // The assistant's hand: where the scenario's pressure presses, else the mobile loops.
+  for (const PressureSchedule& p : pressure_) {
+    bool seen = false;
+    for (const PressureSchedule& a : assist_regions_)
+      seen = seen || (a.region.first_segment == p.region.first_segment && a.region.last_segment == p.region.last_segment);
+    if (!seen) assist_regions_.push_back(p);
+  }
+  if (assist_regions_.empty()) {
+    for (const char* region : {"sigmoid", "transverse"}) {
+      PressureSchedule p;
+      std::tie(p.region.first_segment, p.region.last_segment) = regionSegments(model_.colon, region);
+      if (p.region.first_segment < 0) continue;
+      p.region.stiffness_N_per_m2 = kAssistPressure_N_per_m2;
+      p.region.damping_Ns_per_m2 = kAssistDamping_Ns_per_m2;
+      assist_regions_.push_back(p);
+    }
+  }
+  for (PressureSchedule& p : assist_regions_) p.ramp_s = 1.0, p.from_s = p.to_s = 0;
+  // The patient's position: the one whose gravity the model has.
+  gravity_norm_ = model_.colon.gravity_m_per_s2.norm();
+  for (const std::string& pos : patientPositions())
+    if ((gravityForPosition(pos, gravity_norm_) - model_.colon.gravity_m_per_s2).norm() <= 1e-9 * (1 + gravity_norm_))
+      position_ = pos;
+  start_position_ = position_;
+  start_gravity_ = model_.colon.gravity_m_per_s2;
+  telemetry_.patient_position = position_;  // restart() measured before it was known
+}
+
+void WorldSimulation::assist(const AssistInput& a) {
+  const double t_s = state_.colon.time_s;
+  if (a.abdominal_pressure != assist_.abdominal_pressure) {
+    if (assist_pressure_.empty()) {  // the first pressing: the schedules join the scenario's
+      for (const PressureSchedule& p : assist_regions_) {
+        assist_pressure_.push_back(pressure_.size());
+        pressure_.push_back(p);
+        state_.support.push_back(p.region);
+        state_.support.back().stiffness_N_per_m2 = state_.support.back().damping_Ns_per_m2 = 0;
+      }
+    }
+    for (size_t i : assist_pressure_) {
+      PressureSchedule& p = pressure_[i];
+      const double f = pressureRamp(t_s, p.from_s, p.to_s, p.ramp_s);  // where the ramp is now
+      if (a.abdominal_pressure) {
+        // Pressing again: the ramp goes on from where it is; a hand that had let go
+        // presses the region where it lies now.
+        p.from_s = t_s - f * p.ramp_s;
+        p.to_s = std::numeric_limits<double>::infinity();
+        if (f == 0) state_.support[i].anchor_q.resize(3, 0);
+      } else {
+        p.to_s = t_s + f * p.ramp_s;  // letting go: down from where it is
+      }
+    }
+  }
+  if (a.patient_position != assist_.patient_position) {
+    // Empty: back to the position the run started in.
+    const std::string target = a.patient_position.empty() ? start_position_ : a.patient_position;
+    Vec3 g_to;
+    try {
+      g_to = gravityForPosition(target, 1.0);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(std::string("patient_position: ") + e.what());
+    }
+    const Vec3& g = model_.colon.gravity_m_per_s2;
+    const double from_rad = std::atan2(g.y(), g.x());
+    double by_rad = std::remainder(std::atan2(g_to.y(), g_to.x()) - from_rad, 2 * kPi);
+    // Half a turn either way: roll over the back (the middle of the turn supine, gravity
+    // posterior), or from supine to prone and back over the left side.
+    if (std::abs(std::abs(by_rad) - kPi) < 1e-9) {
+      const double mid_plus = from_rad + kPi / 2;
+      by_rad = std::sin(mid_plus) > 1e-9 || (std::abs(std::sin(mid_plus)) <= 1e-9 && std::cos(mid_plus) > 0) ? kPi : -kPi;
+    }
+    turn_from_rad_ = from_rad;
+    turn_by_rad_ = by_rad;
+    turn_start_s_ = t_s;
+    position_ = target;
+  }
+  assist_ = a;
+}
+
+void WorldSimulation::turnGravity(double t_s) {
+  if (turn_start_s_ < 0) return;
+  const double x = std::clamp((t_s - turn_start_s_) / kTurnDuration_s, 0.0, 1.0);
+  const double eased = x * x * (3 - 2 * x);  // smoothstep: no jolt at either end
+  const double a = turn_from_rad_ + eased * turn_by_rad_;
+  const Vec3 g = Vec3(gravity_norm_ * std::cos(a), gravity_norm_ * std::sin(a), 0.0);
+  model_.colon.gravity_m_per_s2 = g;
+  model_.scope.gravity_m_per_s2 = g;
+  if (x >= 1) turn_start_s_ = -1;
 }
 
 void WorldSimulation::restart(const StartSpec& start) {
+  // No assistance yet: the hand off, the patient back in the starting position.
+  assist_ = AssistInput();
+  assist_pressure_.clear();
+  turn_start_s_ = -1;
+  if (gravity_norm_ > 0) {
+    position_ = start_position_;
+    model_.colon.gravity_m_per_s2 = model_.scope.gravity_m_per_s2 = start_gravity_;
+  }
   dt_s_ = start.dt_s;
   StartState s = makeStartState(model_, start, query_.get());
   state_ = std::move(s.state);
@@ -93,6 +191,7 @@ void WorldSimulation::setSupport(double t_s) {
 void WorldSimulation::step(const HandleInput& in) {
   // The pressure in force over this step: the ramp at the step's start time.
   if (!pressure_.empty()) setSupport(state_.colon.time_s);
+  turnGravity(state_.colon.time_s);
   stepWorld(model_, state_, in, *query_, dt_s_);
   measure();
   telemetry_.solver_limited = limitedCount(state_);
@@ -198,6 +297,9 @@ void WorldSimulation::measure() {
   t.tip_position_m = tip;
   t.tip_to_caecum_m = (tip - s.colon.q.col(colon.n - 1)).norm();
   t.mesentery_stretch = mesenteryStretch(colon, s.colon);
+  t.abdominal_pressure = assist_.abdominal_pressure;
+  t.patient_position = position_;
+  t.patient_turning = turn_start_s_ >= 0;
   t.region_length_ratio.swap(region_ratio_);
   regionLengthRatios(colon, s.colon.q, t.region_length_ratio);
   t.region_names = &colon.region_names;

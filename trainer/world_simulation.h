@@ -48,6 +48,17 @@ class WorldSimulation : public Simulation {
   std::vector<SimulationEvent> events() const override { return events_; }
   /// The colon's control points, the scope's centreline, radius and tip frame.
   bool scene(SceneView& out) const override;
+  /// Abdominal pressure: the assistant's hand presses the regions the scenario's
+  /// abdominal_pressure names (with its densities), or without one the sigmoid and the
+  /// transverse colon (kAssistPressure_N_per_m2), anchored where they lie when the pressing
+  /// begins, ramped in and out over 1 s. Patient position: gravity turns about the body's
+  /// long axis to the new position over kTurnDuration_s (a lateral-to-lateral turn rolls
+  /// the patient over the back).
+  void assist(const AssistInput& a) override;
+
+  static constexpr double kTurnDuration_s = 3.0;       ///< [s] (tuning: a patient turned with help)
+  static constexpr double kAssistPressure_N_per_m2 = 5000.0;  ///< [N/m per m], free_insertion's hand (docs/parameters.md)
+  static constexpr double kAssistDamping_Ns_per_m2 = 50.0;    ///< [N s/m per m]
 
   const WorldModel& model() const { return model_; }
   const WorldState& state() const { return state_; }
@@ -77,6 +88,18 @@ class WorldSimulation : public Simulation {
   /// The scenario's abdominal pressure, resolved to spline segments (core/abdominal_pressure.h).
   std::vector<PressureSchedule> pressure_;
   void setSupport(double t_s);
+  // Assistance (assist()): the assistant's pressure schedules (indices into pressure_ and
+  // state_.support, made at the first pressing), its regions and densities, the patient's
+  // position and the gravity turn in progress.
+  std::vector<PressureSchedule> assist_regions_;
+  std::vector<size_t> assist_pressure_;
+  AssistInput assist_;
+  std::string position_;            ///< the patient's position (the target during a turn)
+  std::string start_position_;      ///< the position the run started in
+  Vec3 start_gravity_ = Vec3::Zero();  ///< its gravity [m/s^2]
+  double turn_from_rad_ = 0, turn_by_rad_ = 0, turn_start_s_ = -1;  ///< gravity's angle about +z
+  double gravity_norm_ = 0;         ///< |g| [m/s^2]
+  void turnGravity(double t_s);
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
   std::vector<double> region_ratio_;  ///< scratch: storage of Telemetry::region_length_ratio [-]
