@@ -118,10 +118,11 @@ struct DetailOptions {
   /// radius) lies at d from the eye are drawn with every n-th ring, n the largest power of
   /// 2 with n <= (d / full_detail_m)^2 and n <= max_ring_step: looking down the tube, a
   /// strip's height on screen falls as 1 / d^2 [m].
-  double full_detail_m = 0.06;
+  /// (0.03 m with every 2nd side beyond 0.08 m visibly reshaped the folds 9-12 cm away.)
+  double full_detail_m = 0.05;
   int max_ring_step = 8;  ///< 1, 2, 4 or 8
   /// Blocks farther than this are drawn with every 2nd side as well [m].
-  double half_sides_m = 0.15;
+  double half_sides_m = 0.12;
 };
 
 /// Triangle indices into a colon mesh built by buildColonMesh from `rings` (ring_vertices

@@ -393,6 +393,7 @@ TEST_F(RenderTest, SplitViewportsDoNotOverlap) {
 // every strip at full detail: in the adult colon at 640 x 480, from tips along the colon
 // looking ahead and back, and one beside the wall. Per pixel and channel: the mean
 // absolute difference and the share of pixels off by more than 24 of 255.
+// COLOSIM_RENDER_DUMP keeps the farthest pose's two images.
 TEST_F(RenderTest, ReducedDetailLooksLikeTheFullDraw) {
   const Parameters params = loadParameters(test::asset("params/default.json"));
   const ColonModel colon = loadColonModel(test::asset("anatomy/adult.json"), params);
@@ -425,10 +426,12 @@ TEST_F(RenderTest, ReducedDetailLooksLikeTheFullDraw) {
         }
       const double mean = static_cast<double>(sum) / (3.0 * reduced.width * reduced.height);
       const double share = static_cast<double>(off) / (reduced.width * reduced.height);
-      std::printf("s %.2f view %d: mean |difference| %.3f, off by > 24: %.4f %%\n", s_m, view, mean, 100 * share);
-      if (view == 0 && s_m == 0.45) dump(reduced, "onboard_reduced_detail"), dump(reference, "onboard_full_detail");
-      EXPECT_LT(mean, 0.5) << "s " << s_m << " view " << view;
-      EXPECT_LT(share, 0.002) << "s " << s_m << " view " << view;
+      if (view == 0 && s_m == 1.2) dump(reduced, "onboard_reduced_detail"), dump(reference, "onboard_full_detail");
+      // Written with mean differences up to 0.06 and shares up to 0.004 %. Coarser settings
+      // (every n-th ring with n <= (d / 3 cm)^2, every 2nd side beyond 8 cm) visibly
+      // reshaped the far folds: means up to 0.28, shares up to 0.47 %.
+      EXPECT_LT(mean, 0.2) << "s " << s_m << " view " << view;
+      EXPECT_LT(share, 0.0005) << "s " << s_m << " view " << view;
       ++poses;
     }
   }
