@@ -2,6 +2,7 @@
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -592,13 +593,13 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
 
 Image readFramebuffer(const Viewport& vp) {
   Image img(vp.width, vp.height);
-  std::vector<uint8_t> rows(img.rgba.size());
   glFinish();
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+  // GL rows come bottom-up: flip in place (no second frame-sized buffer per frame).
   const size_t stride = static_cast<size_t>(vp.width) * 4;
-  for (int y = 0; y < vp.height; ++y)  // GL rows come bottom-up
-    std::copy_n(&rows[(vp.height - 1 - y) * stride], stride, img.at(0, y));
+  for (int y = 0; y < vp.height / 2; ++y)
+    std::swap_ranges(img.at(0, y), img.at(0, y) + stride, img.at(0, vp.height - 1 - y));
   return img;
 }
 
