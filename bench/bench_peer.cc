@@ -486,7 +486,7 @@ BenchOutput benchPeer(const PeerOptions& o) {
       "  speed ratio MuJoCo / colosim %6.2f x %11.2f x\n"
       "  tip position difference: rms %.1f mm, largest %.1f mm, at the start %.2f mm, at the end %.1f mm\n"
       "  handle force: rms colosim %.2f N, MuJoCo %.2f N, rms of the difference %.2f N\n"
-      "  (tip %.3f m from the anus in colosim at the end)\n",
+      "  (colosim's tip %.3f m from the anus in a straight line at the end)\n",
       mj_version() / 100, mj_version() / 10 % 10, mj_version() % 10, steps * o.dt_s, kStartInsertion_m,
       end_insertion_m, kRotationAmplitude_rad, o.dt_s * 1e3, o.block_steps, colosim_us, colosim_cpu, s.scope.inside,
       static_cast<double>(colosim_contacts) / steps, mujoco_us, mujoco_cpu, chain, mm->nv, peer.tube_geoms,
