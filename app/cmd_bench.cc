@@ -29,6 +29,10 @@ void addBenchCommand(CLI::App& app, Action& action) {
           options.hours = *hours;
         }
         const BenchOutput out = b.run(options);
+        if (out.exit_code != 0) {
+          std::cerr << "colosim bench " << *name << ": " << out.error << "\n";
+          return out.exit_code;
+        }
         if (*json) std::cout << out.json.dump() << "\n";
         else std::cout << out.text;
         return 0;

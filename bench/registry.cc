@@ -14,6 +14,11 @@ const std::vector<BenchEntry>& benchmarks() {
        "--hours H (default 1) of cyclic scripted use on the colon + scope simulation: energy over time, "
        "memory (VmRSS, VmHWM), steps per second",
        benchEndurance, true},
+      {"peer",
+       "the scope in colosim against the same scope in MuJoCo (colon rigid in both), 10 s of scripted "
+       "insertion and rotation at 1 ms: step times, their ratio, tip and handle-force differences "
+       "(exit 2 in a build without MuJoCo)",
+       [](const BenchOptions&) { return benchPeerDefault(); }},
   };
   return list;
 }

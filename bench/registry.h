@@ -15,6 +15,8 @@ namespace colosim {
 struct BenchOutput {
   nlohmann::json json;  ///< printed with --json (one object)
   std::string text;     ///< printed otherwise, for people
+  int exit_code = 0;    ///< the command's exit status (2: the benchmark cannot run in this build)
+  std::string error;    ///< printed on stderr when exit_code is not 0
 };
 
 /// Options of `colosim bench` that some benchmarks take.
@@ -39,5 +41,6 @@ BenchOutput benchUntwist();
 BenchOutput benchIdentify();
 BenchOutput benchRender();
 BenchOutput benchEndurance(const BenchOptions& options);
+BenchOutput benchPeerDefault();  // bench_peer.h
 
 }  // namespace colosim

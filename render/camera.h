@@ -42,6 +42,10 @@ struct OnboardOptics {
   /// stretches it onto the viewport (bilinear): 0.7 costs about half the fragment work.
   /// In [0.25, 1]; 1 draws at full size (image export). colosim train lowers it.
   double render_scale = 1.0;
+  /// Draw only the strips of the colon the view can see, and far ones coarser
+  /// (render/tube_mesh.h visibleDetailIndices). false: every strip at full detail (the
+  /// reference the cull and the detail levels are tested against).
+  bool reduce_detail = true;
 };
 
 /// Orbit camera of the global view: looks at `target_m` from `distance_m` away, from the

@@ -2,6 +2,7 @@
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -227,29 +228,25 @@ struct MeshBuffers {
     glBindVertexArray(0);
   }
   void upload(const TubeMesh& m) {
+    uploadVertices(m);
+    uploadIndices(m.indices);
+  }
+  void uploadVertices(const TubeMesh& m) {
     glBindBuffer(GL_ARRAY_BUFFER, vbo);
     glBufferData(GL_ARRAY_BUFFER, m.vertices.size() * sizeof(float), m.vertices.data(), GL_STREAM_DRAW);
-    if (m.indices != uploaded_indices) {  // the topology rarely changes between frames (memcmp)
-      glBindVertexArray(vao);             // the element buffer binding is VAO state
-      glBufferData(GL_ELEMENT_ARRAY_BUFFER, m.indices.size() * sizeof(uint32_t), m.indices.data(),
-                   GL_STATIC_DRAW);
+  }
+  void uploadIndices(const std::vector<uint32_t>& indices) {
+    if (indices != uploaded_indices) {  // the topology rarely changes between frames (memcmp)
+      glBindVertexArray(vao);           // the element buffer binding is VAO state
+      glBufferData(GL_ELEMENT_ARRAY_BUFFER, indices.size() * sizeof(uint32_t), indices.data(), GL_STREAM_DRAW);
       glBindVertexArray(0);
-      uploaded_indices = m.indices;
+      uploaded_indices = indices;
     }
-    index_count = static_cast<GLsizei>(m.indices.size());
+    index_count = static_cast<GLsizei>(indices.size());
   }
   void draw() const {
     glBindVertexArray(vao);
     glDrawElements(GL_TRIANGLES, index_count, GL_UNSIGNED_INT, nullptr);
-    glBindVertexArray(0);
-  }
-  // Draws runs of ring strips, each `strip_indices` indices long.
-  void drawRuns(const std::vector<StripRun>& runs, int strip_indices) const {
-    glBindVertexArray(vao);
-    for (const StripRun& r : runs)
-      glDrawElements(
-          GL_TRIANGLES, (r.end - r.first) * strip_indices, GL_UNSIGNED_INT,
-          reinterpret_cast<void*>(static_cast<size_t>(r.first) * strip_indices * sizeof(uint32_t)));
     glBindVertexArray(0);
   }
   void destroy() {
@@ -396,7 +393,10 @@ void Renderer::uploadMeshes(const ColonModel& model, const Points& q, const Scop
   sampleColonRings(model, q, options, rings_);
   TubeMesh& mesh = global ? colon_global_mesh_ : colon_mesh_;
   buildColonMesh(rings_, options, mesh);
-  (global ? gl_->colon_global : gl_->colon).upload(mesh);
+  if (global)
+    gl_->colon_global.upload(mesh);
+  else
+    gl_->colon.uploadVertices(mesh);  // drawOnboard sends the triangles it draws
   if (scope.centreline_m.size() >= 2) {
     buildScopeMesh(scope, options, scope_mesh_);
     gl_->scope.upload(scope_mesh_);
@@ -464,10 +464,16 @@ void Renderer::drawOnboard(const ColonModel& model, const Points& q, const Scope
   glBindTexture(GL_TEXTURE_2D, gl_->texture);
   glEnable(GL_CLIP_DISTANCE0);
   use(0);
-  std::vector<StripRun> runs;
-  visibleStrips(rings_, camera.p_WC_m, camera.R_WC.col(2), optics.far_m,
-                0.5 * optics.fov_diagonal_deg * kPi / 180, runs);
-  gl_->colon.drawRuns(runs, 6 * (colon_mesh_.ring_vertices - 1));
+  // The colon: only what the view can see, far strips coarser (cheaper for llvmpipe,
+  // which pays per vertex and per triangle), or all of it at full detail.
+  if (optics.reduce_detail) {
+    visibleDetailIndices(rings_, colon_mesh_.ring_vertices, camera.p_WC_m, camera.R_WC.col(2), optics.far_m,
+                         0.5 * optics.fov_diagonal_deg * kPi / 180, DetailOptions{}, detail_indices_);
+    gl_->colon.uploadIndices(detail_indices_);
+  } else {
+    gl_->colon.uploadIndices(colon_mesh_.indices);
+  }
+  gl_->colon.draw();
   if (gl_->scope.index_count > 0) {
     const GLuint p = use(1);
     setVec3(p, "u_color", std::array<float, 3>{0.12f, 0.12f, 0.13f});  // black insertion tube
@@ -587,13 +593,13 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
 
 Image readFramebuffer(const Viewport& vp) {
   Image img(vp.width, vp.height);
-  std::vector<uint8_t> rows(img.rgba.size());
   glFinish();
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
+  // GL rows come bottom-up: flip in place (no second frame-sized buffer per frame).
   const size_t stride = static_cast<size_t>(vp.width) * 4;
-  for (int y = 0; y < vp.height; ++y)  // GL rows come bottom-up
-    std::copy_n(&rows[(vp.height - 1 - y) * stride], stride, img.at(0, y));
+  for (int y = 0; y < vp.height / 2; ++y)
+    std::swap_ranges(img.at(0, y), img.at(0, y) + stride, img.at(0, vp.height - 1 - y));
   return img;
 }
 

@@ -87,6 +87,7 @@ class Renderer {
   TubeOptions tube_;
   ColonRings rings_;
   TubeMesh colon_mesh_, colon_global_mesh_, scope_mesh_;
+  std::vector<uint32_t> detail_indices_;  // the onboard colon's triangles drawn in the last frame
   std::unique_ptr<Gl> gl_;
 };
 

@@ -240,22 +240,54 @@ LumenProbe probeLumen(const TubeMesh& mesh, const ColonRings& rings, const Vec3&
   return probe;
 }
 
+namespace {
+
+// Whether ring i can appear in the view: closer than far_m and inside the view cone, both
+// widened by the ring's bounding sphere.
+bool ringInView(const ColonRings& rings, int i, const Vec3& eye_m, const Vec3& forward, double far_m,
+                double cos_fov, double sin_fov) {
+  const Vec3 d = rings.centre_m[i] - eye_m;
+  const double r = rings.radius_m[i];  // folds only narrow the ring: r bounds it
+  const double dist = d.norm();
+  if (dist > far_m + r) return false;
+  if (dist <= r) return true;  // the camera is inside this ring's sphere
+  // Inside the cone widened by the ring's bounding sphere: the axis angle of d is at
+  // most half_fov + asin(r / dist), i.e. cos(angle) >= cos(half_fov + asin(r / dist)).
+  const double sa = r / dist, ca = std::sqrt(1 - sa * sa);
+  return d.dot(forward) >= dist * (cos_fov * ca - sin_fov * sa);
+}
+
+// The triangles of the strip from ring a (every sa-th side) to ring b (every sb-th side);
+// sa and sb divide the side count, one divides the other. Where they differ, each cell of
+// the coarser ring is a fan: the finer ring's first half to the cell's first coarse
+// vertex, a bridge triangle, the second half to its last.
+void addStrip(int a, int b, int sa, int sb, int sides, int rv, std::vector<uint32_t>& out) {
+  auto A = [&](int j) { return static_cast<uint32_t>(a * rv + j); };
+  auto B = [&](int j) { return static_cast<uint32_t>(b * rv + j); };
+  const int S = std::max(sa, sb), f = std::min(sa, sb), n = S / f;
+  for (int j = 0; j < sides; j += S) {
+    if (sa == sb) {
+      out.insert(out.end(), {A(j), B(j), A(j + S), A(j + S), B(j), B(j + S)});
+    } else if (sa < sb) {  // ring a finer
+      for (int k = 0; k < n / 2; ++k) out.insert(out.end(), {A(j + k * f), B(j), A(j + (k + 1) * f)});
+      out.insert(out.end(), {A(j + n / 2 * f), B(j), B(j + S)});
+      for (int k = n / 2; k < n; ++k) out.insert(out.end(), {A(j + k * f), B(j + S), A(j + (k + 1) * f)});
+    } else {  // ring b finer
+      for (int k = 0; k < n / 2; ++k) out.insert(out.end(), {A(j), B(j + k * f), B(j + (k + 1) * f)});
+      out.insert(out.end(), {A(j), B(j + n / 2 * f), A(j + S)});
+      for (int k = n / 2; k < n; ++k) out.insert(out.end(), {A(j + S), B(j + k * f), B(j + (k + 1) * f)});
+    }
+  }
+}
+
+}  // namespace
+
 void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,
                    double half_fov_rad, std::vector<StripRun>& runs) {
   runs.clear();
   const int count = static_cast<int>(rings.centre_m.size());
   const double cos_fov = std::cos(half_fov_rad), sin_fov = std::sin(half_fov_rad);
-  auto visible = [&](int i) {
-    const Vec3 d = rings.centre_m[i] - eye_m;
-    const double r = rings.radius_m[i];  // folds only narrow the ring: r bounds it
-    const double dist = d.norm();
-    if (dist > far_m + r) return false;
-    if (dist <= r) return true;  // the camera is inside this ring's sphere
-    // Inside the cone widened by the ring's bounding sphere: the axis angle of d is at
-    // most half_fov + asin(r / dist), i.e. cos(angle) >= cos(half_fov + asin(r / dist)).
-    const double sa = r / dist, ca = std::sqrt(1 - sa * sa);
-    return d.dot(forward) >= dist * (cos_fov * ca - sin_fov * sa);
-  };
+  auto visible = [&](int i) { return ringInView(rings, i, eye_m, forward, far_m, cos_fov, sin_fov); };
   bool prev = count > 0 && visible(0);
   for (int i = 0; i + 1 < count; ++i) {
     const bool next = visible(i + 1);
@@ -266,6 +298,51 @@ void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forwa
         runs.push_back({i, i + 1});
     }
     prev = next;
+  }
+}
+
+void visibleDetailIndices(const ColonRings& rings, int rv, const Vec3& eye_m, const Vec3& forward, double far_m,
+                          double half_fov_rad, const DetailOptions& detail, std::vector<uint32_t>& indices) {
+  indices.clear();
+  const int count = static_cast<int>(rings.centre_m.size());
+  const int sides = rv - 1;
+  if (count < 2 || sides < 1) return;
+  const double cos_fov = std::cos(half_fov_rad), sin_fov = std::sin(half_fov_rad);
+  // Blocks of kBlock strips (rings kBlock b .. kBlock (b + 1); the last may be shorter):
+  // drawn when a ring of theirs is in view, at a detail by their nearest distance.
+  constexpr int kBlock = 8;
+  const int max_step = std::clamp(detail.max_ring_step, 1, kBlock);
+  const int blocks = (count - 1 + kBlock - 1) / kBlock;
+  std::vector<int> ring_step(blocks, 0), side_step(blocks, 0);  // 0: not drawn
+  for (int b = 0; b < blocks; ++b) {
+    const int first = kBlock * b, last = std::min(first + kBlock, count - 1);
+    bool seen = false;
+    double nearest = 1e300;
+    for (int i = first; i <= last; ++i) {
+      seen = seen || ringInView(rings, i, eye_m, forward, far_m, cos_fov, sin_fov);
+      nearest = std::max(0.0, std::min(nearest, (rings.centre_m[i] - eye_m).norm() - rings.radius_m[i]));
+    }
+    if (!seen) continue;
+    // Seen down the tube, a strip's height on screen falls as 1 / d^2.
+    int step = 1;
+    const double x = nearest / std::max(detail.full_detail_m, 1e-9);
+    while (2 * step <= max_step && x * x >= 2 * step && (last - first) % (2 * step) == 0) step *= 2;
+    ring_step[b] = step;
+    side_step[b] = sides % 2 == 0 && nearest > detail.half_sides_m ? 2 : 1;
+  }
+  // A ring shared by two drawn blocks takes the finer block's sides.
+  auto boundary = [&](int b, int other) {
+    return other >= 0 && other < blocks && side_step[other] > 0 ? std::min(side_step[b], side_step[other])
+                                                                  : side_step[b];
+  };
+  for (int b = 0; b < blocks; ++b) {
+    if (side_step[b] == 0) continue;
+    const int first = kBlock * b, last = std::min(first + kBlock, count - 1);
+    const int s = side_step[b], s_first = boundary(b, b - 1), s_last = boundary(b, b + 1);
+    for (int a = first; a < last; a += ring_step[b]) {
+      const int c = a + ring_step[b];
+      addStrip(a, c, a == first ? s_first : s, c == last ? s_last : s, sides, rv, indices);
+    }
   }
 }
 

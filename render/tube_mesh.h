@@ -111,6 +111,29 @@ struct StripRun {
 void visibleStrips(const ColonRings& rings, const Vec3& eye_m, const Vec3& forward, double far_m,
                    double half_fov_rad, std::vector<StripRun>& runs);
 
+/// Level of detail of the onboard colon by distance (visibleDetailIndices): a facet far
+/// from the lens covers few pixels, and llvmpipe pays per triangle and per vertex.
+struct DetailOptions {
+  /// Blocks of 8 strips whose nearest point (ring centre distance less the unfolded
+  /// radius) lies at d from the eye are drawn with every n-th ring, n the largest power of
+  /// 2 with n <= (d / full_detail_m)^2 and n <= max_ring_step: looking down the tube, a
+  /// strip's height on screen falls as 1 / d^2 [m].
+  /// (0.03 m with every 2nd side beyond 0.08 m visibly reshaped the folds 9-12 cm away.)
+  double full_detail_m = 0.05;
+  int max_ring_step = 8;  ///< 1, 2, 4 or 8
+  /// Blocks farther than this are drawn with every 2nd side as well [m].
+  double half_sides_m = 0.12;
+};
+
+/// Triangle indices into a colon mesh built by buildColonMesh from `rings` (ring_vertices
+/// per ring) of what an onboard camera can see (visibleStrips' test, by pairs of strips),
+/// with detail decreasing with distance (DetailOptions). Where pairs of different detail
+/// meet, the finer ring is joined to the coarser one by fans, so the wall stays closed (no
+/// T-junction cracks); triangles keep buildColonMesh's winding. [out] indices.
+void visibleDetailIndices(const ColonRings& rings, int ring_vertices, const Vec3& eye_m, const Vec3& forward,
+                          double far_m, double half_fov_rad, const DetailOptions& detail,
+                          std::vector<uint32_t>& indices);
+
 /// The scope as a tube along its centreline, closed at the tip. Throws
 /// std::invalid_argument for fewer than two points, a non-positive radius or NaN.
 void buildScopeMesh(const ScopeShape& scope, const TubeOptions& options, TubeMesh& mesh);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "tests/fixture.h"
 #include "tests/render/render_fixture.h"
@@ -151,6 +152,69 @@ TEST_F(AdultMesh, VisibleStripsKeepsEverythingInView) {
     }
   }
   EXPECT_GT(culled_total, 1000) << "the cull should drop something";
+}
+
+// The level-of-detail triangles: from cameras along the colon, the drawn wall is closed
+// where pairs of different detail meet (every edge inside the drawn part is shared by
+// exactly two triangles, once in each direction: no T-junction cracks, one winding), the
+// far part is drawn with fewer triangles, and everything the cull keeps is drawn.
+TEST_F(AdultMesh, DetailIndicesCloseTheWallAndSaveTriangles) {
+  const TubeOptions opt;
+  ColonRings rings;
+  sampleColonRings(*model_, model_->q_rest, opt, rings);
+  TubeMesh mesh;
+  buildColonMesh(rings, opt, mesh);
+  const int rv = mesh.ring_vertices, sides = rv - 1;
+  const double far_m = 0.3, half_fov = 70 * kPi / 180;
+  std::vector<uint32_t> indices;
+  std::vector<StripRun> runs;
+  int coarse_views = 0;
+  for (size_t k = 5; k < rings.centre_m.size(); k += 61) {
+    for (double dir : {1.0, -1.0}) {
+      const Vec3 eye = rings.centre_m[k] + 0.5 * rings.radius_m[k] * rings.frame[k].r;
+      const Vec3 fwd = dir * rings.frame[k].t;
+      visibleDetailIndices(rings, rv, eye, fwd, far_m, half_fov, DetailOptions{}, indices);
+      ASSERT_EQ(indices.size() % 3, 0u);
+      // Edges by (ring, side) with the seam's duplicate vertex folded onto side 0; which
+      // strips the triangles cover; which rings are joined to rings before and after them.
+      std::map<std::pair<std::pair<int, int>, std::pair<int, int>>, int> directed;
+      std::vector<char> covered(mesh.rings, 0), before(mesh.rings, 0), after(mesh.rings, 0);
+      auto key = [&](uint32_t v) {
+        return std::make_pair(static_cast<int>(v) / rv, static_cast<int>(v) % rv % sides);
+      };
+      for (size_t t = 0; t < indices.size(); t += 3) {
+        int r0 = mesh.rings, r1 = -1;
+        for (int e = 0; e < 3; ++e) {
+          const auto a = key(indices[t + e]), b = key(indices[t + (e + 1) % 3]);
+          ASSERT_NE(a, b) << "degenerate triangle";
+          ++directed[{a, b}];
+          r0 = std::min(r0, a.first), r1 = std::max(r1, a.first);
+        }
+        for (int i = r0; i < r1; ++i) covered[i] = 1;
+        before[r1] = after[r0] = 1;
+      }
+      // Every edge is drawn once in its direction and, inside the drawn wall, once in the
+      // other: an unmatched edge is allowed only along a ring that is the end of a drawn run
+      // (joined to one side only). A T-junction leaves unmatched edges along a ring joined
+      // on both sides.
+      for (const auto& [edge, n] : directed) {
+        ASSERT_EQ(n, 1) << "edge drawn twice the same way";
+        const auto& [a, b] = edge;
+        if (directed.count({b, a})) continue;
+        ASSERT_EQ(a.first, b.first) << "open edge across rings " << a.first << ", " << b.first;
+        EXPECT_FALSE(before[a.first] && after[a.first]) << "crack along ring " << a.first;
+      }
+      // Every strip the strip cull keeps is drawn.
+      visibleStrips(rings, eye, fwd, far_m, half_fov, runs);
+      size_t full = 0;
+      for (const StripRun& r : runs) {
+        full += static_cast<size_t>(r.end - r.first) * 6 * sides;
+        for (int i = r.first; i < r.end; ++i) EXPECT_TRUE(covered[i]) << "strip " << i << " left out";
+      }
+      if (indices.size() < full / 2) ++coarse_views;
+    }
+  }
+  EXPECT_GT(coarse_views, 10) << "far strips should be drawn coarser";
 }
 
 // insideLumen against the wall as drawn: on the axis and just inside the wall inside;
