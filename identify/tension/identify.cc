@@ -569,7 +569,8 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
              join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
     }
     s += "  " + (e.round == 2 ? join(e.model) : e.effect) + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
-         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
+         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) +
+         (e.signature_rmse_N >= 0 ? fmt(", toe of the reloadings %.4f N", e.signature_rmse_N) : "") + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
   }
   if (!r.refuted_effects.empty()) {
     s += "Cause: none. The selection chose " + join(r.refuted_effects) +
