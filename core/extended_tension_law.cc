@@ -81,6 +81,7 @@ bool ExtendedLawParams::set(const std::string& name, double v) {
   else if (name == "soften_d_inf") soften_d_inf = v;
   else if (name == "soften_a_c") soften_a_c = v;
   else if (name == "set_ratio") set_ratio = v;
+  else if (name == "set_yield_strain") set_yield_strain = v, set_yield = true;
   else return false;
   return true;
 }
@@ -106,7 +107,12 @@ void ExtendedLawParams::validate() const {
     check(std::isfinite(soften_d_inf) && soften_d_inf >= 0 && soften_d_inf < 1, "soften_d_inf in [0, 1)");
     check(std::isfinite(soften_a_c) && soften_a_c > 0, "soften_a_c must be positive");
   }
-  if (permanent_set) check(std::isfinite(set_ratio) && set_ratio >= 0 && set_ratio < 1, "set_ratio in [0, 1)");
+  if (permanent_set) {
+    check(std::isfinite(set_ratio) && set_ratio >= 0 && set_ratio < 1, "set_ratio in [0, 1)");
+    if (set_yield)
+      check(std::isfinite(set_yield_strain) && set_yield_strain >= 0 && set_yield_strain <= 10,
+            "set_yield_strain in [0, 10]");
+  }
 }
 
 ExtendedTensionLaw::ExtendedTensionLaw(const ExtendedLawParams& p) : p_(p) {
@@ -132,7 +138,10 @@ std::vector<LawParameter> ExtendedTensionLaw::parameters() const {
     out.push_back({"soften_d_inf", p_.soften_d_inf, "1"});
     out.push_back({"soften_a_c", p_.soften_a_c, "1"});
   }
-  if (p_.permanent_set) out.push_back({"set_ratio", p_.set_ratio, "1"});
+  if (p_.permanent_set) {
+    out.push_back({"set_ratio", p_.set_ratio, "1"});
+    if (p_.set_yield) out.push_back({"set_yield_strain", p_.set_yield_strain, "1"});
+  }
   return out;
 }
 
@@ -143,11 +152,15 @@ void ExtendedTensionLaw::initInternal(double* z) const {
   z[kDFsPrev] = p_.ea_N;  // dFs/de of the virgin sample at zero strain
 }
 
+double ExtendedTensionLaw::setStrain(double e_max) const {
+  return p_.set_yield ? p_.set_ratio * std::max(0.0, e_max - p_.set_yield_strain) : p_.set_ratio * e_max;
+}
+
 void ExtendedTensionLaw::elastic(double strain, const double* z, double* f, double* df) const {
   double x = strain;
   double scale = 1.0;
   if (z) {
-    if (p_.permanent_set) x -= p_.set_ratio * z[kEMax];
+    if (p_.permanent_set) x -= setStrain(z[kEMax]);
     scale = z[kScale];
   }
   fung(p_.ea_N, p_.strain_stiffening, p_.fung_b, x, f, df);
@@ -215,7 +228,7 @@ void ExtendedTensionLaw::advance(double strain, double /*strain_rate*/, double d
 double ExtendedTensionLaw::storedEnergy(double strain, const double* z) const {
   double x = strain, scale = 1.0;
   if (any_ && z) {
-    if (p_.permanent_set) x -= p_.set_ratio * z[kEMax];
+    if (p_.permanent_set) x -= setStrain(z[kEMax]);
     scale = z[kScale];
   }
   return scale * fungEnergy(p_.ea_N, p_.strain_stiffening, p_.fung_b, x);

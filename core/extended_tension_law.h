@@ -29,6 +29,9 @@
 //                      after about 4 a_c / (strain amplitude) cycles.
 //   permanent_set      r [-]: e_p = r e_max, e_max the largest strain reached so far: after a
 //                      large stretch the sample is longer and slack at lengths it used to resist.
+//                      Optionally with a yield strain e_y [-] (set_yield): e_p = r max(0, e_max - e_y),
+//                      no set until the sample has been stretched beyond e_y; e_y = 0 is the
+//                      law without a threshold.
 //
 // Internal variables per element (internalSize() = 8 when any effect is on, 0 otherwise):
 //   z = [e_prev, Fs_prev [N], h_1 [N], h_2 [N], a [-], e_max [-], 1 - d(a) [-], dFs/de at e_prev [N]]
@@ -72,13 +75,16 @@ struct ExtendedLawParams {
 
   bool permanent_set = false;
   double set_ratio = 0.0;     ///< r: permanent set per unit of the largest strain reached [-]
+  bool set_yield = false;     ///< the set has a yield strain (set_yield_strain is a parameter)
+  double set_yield_strain = 0.0;  ///< e_y: largest strain without a set (set_yield) [-]
 
   /// Names of the effects that are on, in tensionEffectNames() order.
   std::vector<std::string> effects() const;
   /// Switches an effect on by name; throws std::invalid_argument for an unknown name.
   void enable(const std::string& effect);
   /// Sets a parameter by its name in parameters() (relax_g2 / relax_tau2_s select the
-  /// two-term Prony series); false for an unknown name.
+  /// two-term Prony series, set_yield_strain the set with a yield strain); false for an
+  /// unknown name.
   bool set(const std::string& name, double value);
   /// Throws std::invalid_argument naming the first parameter out of its range.
   void validate() const;
@@ -107,6 +113,8 @@ class ExtendedTensionLaw final : public TensionLaw {
  private:
   // Fs(e) and dFs/de with the internal variables z (softening, set) [N].
   void elastic(double strain, const double* z, double* force_N, double* dforce_N) const;
+  // The permanent set e_p [-] after a largest strain e_max [-].
+  double setStrain(double e_max) const;
 
   ExtendedLawParams p_;
   bool any_ = false;

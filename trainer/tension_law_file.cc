@@ -62,6 +62,7 @@ ExtendedLawParams readTensionLawObject(JsonObject& top) {
     top.fail("law", "must be 'voigt' exactly when 'effects' is empty");
   JsonObject params = top.object("params");
   if (params.has("relax_g2") || params.has("relax_tau2_s")) p.prony_terms = 2;
+  if (params.has("set_yield_strain")) p.set_yield = true;
   // The parameters a law with these effects has (the defaults are valid placeholders).
   for (const LawParameter& q : ExtendedTensionLaw(p).parameters()) {
     JsonObject v = params.object(q.name);

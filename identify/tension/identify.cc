@@ -32,9 +32,12 @@ struct Data {
   std::vector<double> strain, rate;
   double ea_scale_N = 10;       // magnitude of EA for scaling [N]
   double total_loading_strain = 1;  // accumulated loading strain of the protocol [-]
+  double max_strain = 1;        // largest strain of the test [-]
 };
 
-std::vector<ParamDef> layout(const Data& d, const std::vector<std::string>& effects) {
+// The parameters of a law with `effects`; relaxation with two Maxwell branches when
+// two_relax. The set always has its yield strain (0 is the set without a threshold).
+std::vector<ParamDef> layout(const Data& d, const std::vector<std::string>& effects, bool two_relax = false) {
   auto has = [&](const char* e) { return std::find(effects.begin(), effects.end(), e) != effects.end(); };
   std::vector<ParamDef> p = {{"EA_N", "N", d.ea_scale_N, 1e-3 * d.ea_scale_N, 1e3 * d.ea_scale_N},
                              {"EC_Ns", "N s", 0.1, 0.0, 1e3}};
@@ -42,12 +45,19 @@ std::vector<ParamDef> layout(const Data& d, const std::vector<std::string>& effe
   if (has("stress_relaxation")) {
     p.push_back({"relax_g1", "1", 0.3, 0.0, 0.95});
     p.push_back({"relax_tau1_s", "s", 10.0, 0.05, 1e4});
+    if (two_relax) {
+      p.push_back({"relax_g2", "1", 0.3, 0.0, 0.95});
+      p.push_back({"relax_tau2_s", "s", 10.0, 0.05, 1e4});
+    }
   }
   if (has("cyclic_softening")) {
     p.push_back({"soften_d_inf", "1", 0.2, 0.0, 0.95});
     p.push_back({"soften_a_c", "1", std::max(1e-3, d.total_loading_strain / 5), 1e-4, 1e4});
   }
-  if (has("permanent_set")) p.push_back({"set_ratio", "1", 0.1, 0.0, 0.9});
+  if (has("permanent_set")) {
+    p.push_back({"set_ratio", "1", 0.1, 0.0, 0.9});
+    p.push_back({"set_yield_strain", "1", std::max(1e-3, 0.3 * d.max_strain), 0.0, std::max(1e-3, d.max_strain)});
+  }
   p.push_back({"offset_N", "N", 0.1, -1e3, 1e3});
   return p;
 }
@@ -58,17 +68,8 @@ ExtendedLawParams toLaw(const std::vector<ParamDef>& defs, const std::vector<std
   ExtendedLawParams lp;
   for (const std::string& e : effects) lp.enable(e);
   for (size_t i = 0; i < defs.size(); ++i) {
-    const std::string& n = defs[i].name;
-    const double v = theta[i];
-    if (n == "EA_N") lp.ea_N = v;
-    else if (n == "EC_Ns") lp.ec_Ns = v;
-    else if (n == "fung_b") lp.fung_b = v;
-    else if (n == "relax_g1") lp.relax_g1 = v;
-    else if (n == "relax_tau1_s") lp.relax_tau1_s = v;
-    else if (n == "soften_d_inf") lp.soften_d_inf = v;
-    else if (n == "soften_a_c") lp.soften_a_c = v;
-    else if (n == "set_ratio") lp.set_ratio = v;
-    else if (n == "offset_N") *offset_N = v;
+    if (defs[i].name == "offset_N") *offset_N = theta[i];
+    else lp.set(defs[i].name, theta[i]);  // relax_g2 and set_yield_strain select their forms
   }
   return lp;
 }
@@ -178,6 +179,7 @@ Eigen::MatrixXd jacobian(const Data& d, const std::vector<ParamDef>& defs, const
 struct Fit {
   FittedModel model;
   std::vector<double> theta;
+  bool two_relax = false;  // relaxation with two Maxwell branches
 };
 
 // Fills the model of a fit: law, prediction, errors, information criteria, parameter
@@ -192,6 +194,7 @@ Fit finishModel(const Data& d, const std::vector<ParamDef>& defs, const std::vec
                 const std::vector<double>& theta, double sse, const std::vector<int>& fold, int folds) {
   Fit f;
   f.theta = theta;
+  f.two_relax = std::any_of(defs.begin(), defs.end(), [](const ParamDef& p) { return p.name == "relax_g2"; });
   FittedModel& m = f.model;
   m.effects = effects;
   m.law = toLaw(defs, effects, theta.data(), &m.offset_N);
@@ -252,8 +255,8 @@ Fit finishModel(const Data& d, const std::vector<ParamDef>& defs, const std::vec
 
 // Fits from each start (a few iterations each), continues the best to convergence.
 Fit fitModel(const Data& d, const std::vector<std::string>& effects, const std::vector<std::vector<double>>& starts,
-             const std::vector<int>& fold, int folds) {
-  const std::vector<ParamDef> defs = layout(d, effects);
+             const std::vector<int>& fold, int folds, bool two_relax = false) {
+  const std::vector<ParamDef> defs = layout(d, effects, two_relax);
   const std::vector<double> ones(d.test->rows(), 1.0);
   double best_sse = std::numeric_limits<double>::infinity();
   std::vector<double> best;
@@ -400,21 +403,16 @@ std::string join(const std::vector<std::string>& v) {
   return s.empty() ? "none" : s;
 }
 
-// The fitted candidates of a round, named, for the selection rule.
-std::vector<Candidate> candidatesOf(const std::vector<std::string>& names, const std::vector<Fit>& fits) {
-  std::vector<Candidate> c(names.size());
-  for (size_t i = 0; i < names.size(); ++i) c[i].effect = names[i], c[i].score = fits[i].model;
-  return c;
-}
-
-// Starting points for a model that adds `effect` to the fitted `current`.
-std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& current, const std::string& effect) {
+// Starting points for a model that adds `effect` to the fitted `current` (its relaxation,
+// if any, with two branches when two_relax).
+std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& current, const std::string& effect,
+                                           bool two_relax = false) {
   const std::vector<std::string> effects = [&] {
     std::vector<std::string> e = current.effects;
     e.push_back(effect);
     return e;
   }();
-  const std::vector<ParamDef> defs = layout(d, effects);
+  const std::vector<ParamDef> defs = layout(d, effects, two_relax);
   double ea = current.law.ea_N;
   std::vector<std::vector<double>> s;
   if (effect == "strain_stiffening") {
@@ -429,9 +427,50 @@ std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& cur
     s.push_back(thetaFrom(defs, current, {{"EA_N", 1.2 * ea}, {"soften_d_inf", 0.2},
                                           {"soften_a_c", d.total_loading_strain / 2}}));
   } else {
-    s.push_back(thetaFrom(defs, current, {{"set_ratio", 0.05}}));
+    s.push_back(thetaFrom(defs, current, {{"set_ratio", 0.05}, {"set_yield_strain", 0.0}}));
+    s.push_back(thetaFrom(defs, current, {{"set_ratio", 0.15}, {"set_yield_strain", 0.3 * d.max_strain}}));
   }
   return s;
+}
+
+// The toe of the reloadings: rows loading again (after the first loading) at strains up to
+// 30 % of the largest strain reached before, where a permanent set moves the strain at
+// which force starts.
+std::vector<bool> toeRows(const Data& d, const IdentifyResult& seg) {
+  const size_t n = d.test->rows();
+  std::vector<bool> toe(n, false);
+  double e_max = 0;
+  for (size_t k = 0; k < n; ++k) {
+    toe[k] = seg.cycle[k] > 0 && seg.time_in_hold_s[k] < 0 && d.rate[k] > 0 && d.strain[k] <= 0.3 * e_max;
+    e_max = std::max(e_max, d.strain[k]);
+  }
+  return toe;
+}
+
+// RMS residual of a fitted model over the rows with mask[k] (0 without rows) [N].
+double maskedRmse(const Data& d, const std::vector<bool>& mask, const FittedModel& m) {
+  double s = 0;
+  int count = 0;
+  for (size_t k = 0; k < mask.size(); ++k)
+    if (mask[k]) s += std::pow(m.prediction_N[k] - d.test->force_N[k], 2), ++count;
+  return count ? std::sqrt(s / count) : 0.0;
+}
+
+// Relaxation with a second Maxwell branch: a fit with relaxation and one branch is fitted
+// again with two, started from the first (its g split in half, tau split fivefold either
+// way); the second branch is kept when it pays for itself by the selection rule.
+void secondBranch(const Data& d, const std::vector<int>& fold, const IdentifyOptions& o, Fit* fit) {
+  const FittedModel& one = fit->model;
+  const std::vector<std::string>& e = one.effects;
+  if (fit->two_relax || std::find(e.begin(), e.end(), "stress_relaxation") == e.end()) return;
+  const double g = one.law.relax_g1, tau = one.law.relax_tau1_s;
+  const std::vector<ParamDef> defs = layout(d, e, true);
+  Fit two = fitModel(d, e,
+                     {thetaFrom(defs, one, {{"relax_g1", 0.5 * g}, {"relax_tau1_s", tau / 5},
+                                            {"relax_g2", 0.5 * g}, {"relax_tau2_s", 5 * tau}})},
+                     fold, o.folds, true);
+  if (candidatePays(one.heldout_rmse_N / std::max(two.model.heldout_rmse_N, 1e-300), two.model.bic - one.bic, o))
+    *fit = std::move(two);
 }
 
 }  // namespace
@@ -447,9 +486,12 @@ FittedModel fitTensionLaw(const TensionTest& test, const std::vector<std::string
     base.law.ec_Ns = 0.05;
     base.params = {{"EA_N", 10, 0, "N"}, {"EC_Ns", 0.05, 0, "N s"}, {"offset_N", 0, 0, "N"}};
   }
-  std::vector<double> th = thetaFrom(layout(d, effects), base, {});
+  d.max_strain = std::max(1e-3, *std::max_element(d.strain.begin(), d.strain.end()));
+  const bool two_relax = std::any_of(base.params.begin(), base.params.end(),
+                                     [](const ParamEstimate& p) { return p.name == "relax_g2"; });
+  std::vector<double> th = thetaFrom(layout(d, effects, two_relax), base, {});
   const std::vector<int> fold(test.rows(), 0);
-  return fitModel(d, effects, {th}, fold, 1).model;
+  return fitModel(d, effects, {th}, fold, 1, two_relax).model;
 }
 
 namespace {
@@ -473,6 +515,7 @@ TensionTest blockAverage(const TensionTest& t, size_t block) {
 void prepare(const TensionTest& t, Data* d) {
   d->test = &t;
   tensionStrainHistory(t, &d->strain, &d->rate);
+  d->max_strain = std::max(1e-3, *std::max_element(d->strain.begin(), d->strain.end()));
   d->total_loading_strain = 1e-3;
   for (size_t k = 1; k < t.rows(); ++k)
     if (d->strain[k] > 0) d->total_loading_strain += std::max(0.0, d->strain[k] - std::max(0.0, d->strain[k - 1]));
@@ -517,14 +560,17 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
   for (const CandidateEvidence& e : r.evidence) {
     if (e.round != round) {
       round = e.round;
-      if (round == 3)
-        s += "Exchange: candidates replacing the first effect, added to " + e.model.front() + "\n";
-      else
+      if (round == 2) {
+        const auto first = std::find_if(r.evidence.begin(), r.evidence.end(),
+                                        [](const CandidateEvidence& c) { return c.round == 1 && c.chosen; });
+        s += "Round 2: every pair of effects, against " + (first != r.evidence.end() ? first->effect : "none") + "\n";
+      } else
         s += fmt("Round %.0f: candidates added to ", round) +
              join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
     }
-    s += "  " + e.effect + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
-         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
+    s += "  " + (e.round == 2 ? join(e.model) : e.effect) + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
+         fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) +
+         (e.signature_rmse_N >= 0 ? fmt(", toe of the reloadings %.4f N", e.signature_rmse_N) : "") + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
   }
   if (!r.refuted_effects.empty()) {
     s += "Cause: none. The selection chose " + join(r.refuted_effects) +
@@ -577,11 +623,11 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   const FittedModel start = linearStart(w);
   w.ea_scale_N = d.ea_scale_N = std::max(1e-3, start.law.ea_N);
 
-  // Progress in fits: the base, each round's candidates, the exchange step, the two refits.
-  const long n_effects = static_cast<long>(tensionEffectNames().size());
-  long planned = 1 + 2;
-  for (int round = 1; round <= o.max_effects; ++round) planned += std::max(0L, n_effects - (round - 1));
-  if (o.max_effects == 2) planned += std::max(0L, n_effects - 2);
+  // Progress in fits: the base, the single effects and relaxation's second branch, every
+  // pair and the chosen pair's second branch, the two refits.
+  const size_t n_effects = tensionEffectNames().size();
+  const long n_pairs = static_cast<long>(n_effects * (n_effects - 1) / 2);
+  const long planned = 1 + static_cast<long>(n_effects) + 1 + (o.max_effects >= 2 ? n_pairs + 1 : 0) + 2;
   std::atomic<long> fits_done{0};
   auto fitted = [&] {
     const long done = ++fits_done;
@@ -589,49 +635,78 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   };
   const Fit base = fitModel(w, {}, {thetaFrom(layout(w, {}), start, {})}, wr.fold, o.folds);
   fitted();
-  // Forward selection of effects by held-out error, BIC as the second opinion. The
-  // candidates of a round are independent fits: two threads (this machine has two cores).
-  Fit current = base;
-  std::vector<Fit> round1;  // the single-effect fits, for the exchange step below
-  std::vector<std::string> round1_names;
-  for (int round = 1; round <= o.max_effects; ++round) {
-    std::vector<std::string> names;
-    for (const std::string& e : tensionEffectNames())
-      if (std::find(current.model.effects.begin(), current.model.effects.end(), e) == current.model.effects.end())
-        names.push_back(e);
-    std::vector<Fit> cands(names.size());
-    runInParallel(names.size(), o.threads, [&](size_t i) {
-      std::vector<std::string> effects = current.model.effects;
-      effects.push_back(names[i]);
-      cands[i] = fitModel(w, effects, startsFor(w, current.model, names[i]), wr.fold, o.folds);
-      fitted();
-    });
-    const int best = weighRound(round, current.model, candidatesOf(names, cands), o, &r.evidence);
-    if (round == 1) round1 = cands, round1_names = names;
-    if (best < 0) break;
-    current = std::move(cands[best]);
-    r.effects.push_back(names[best]);
-  }
 
-  // Exchange step (stepwise selection): forward selection is greedy, and a first effect
-  // chosen because it mimics part of two others can stay in a wrong pair. With two effects
-  // {A, B}, each unchosen C is tried in place of A ({B, C}); it replaces A only when it
-  // pays for itself against {A, B} by the same rule.
-  if (r.effects.size() == 2) {
-    const std::string a = r.effects[0], b = r.effects[1];
-    const size_t ib = std::find(round1_names.begin(), round1_names.end(), b) - round1_names.begin();
-    std::vector<std::string> names;
-    for (const std::string& e : tensionEffectNames())
-      if (e != a && e != b) names.push_back(e);
-    std::vector<Fit> cands(names.size());
-    runInParallel(names.size(), o.threads, [&](size_t i) {
-      cands[i] = fitModel(w, {b, names[i]}, startsFor(w, round1[ib].model, names[i]), wr.fold, o.folds);
+  // Round 1: each effect alone. Relaxation is fitted with one Maxwell branch, then with a
+  // second started from the first (tau split fivefold either way); the second branch is
+  // kept when it pays for itself against the first by the selection rule. The candidates
+  // are independent fits: two threads (this machine has two cores).
+  const std::vector<std::string>& names = tensionEffectNames();
+  std::vector<Fit> singles(n_effects);
+  runInParallel(n_effects, o.threads, [&](size_t i) {
+    singles[i] = fitModel(w, {names[i]}, startsFor(w, base.model, names[i]), wr.fold, o.folds);
+    fitted();
+    if (names[i] != "stress_relaxation") return;
+    secondBranch(w, wr.fold, o, &singles[i]);
+    fitted();
+  });
+  std::vector<Candidate> round1(n_effects);
+  for (size_t i = 0; i < n_effects; ++i) round1[i].effect = names[i], round1[i].score = singles[i].model;
+  const int first = weighRound(1, base.model, round1, o, &r.evidence);
+  Fit current = first >= 0 ? singles[first] : base;
+  if (first >= 0) r.effects = {names[first]};
+
+  // Round 2: every pair of effects (six with four effects), each started from both of its
+  // single fits, weighed against the first effect by the same rule with the held-out ratio
+  // of a second effect (min_pair_heldout_ratio). Greedy forward
+  // selection would only try pairs with the first effect, and a first effect chosen because
+  // it mimics part of two others would stay in a wrong pair. A pair is ordered by its
+  // members' single held-out errors (the better first): the candidate is the second member
+  // added to the first.
+  if (first >= 0 && o.max_effects >= 2) {
+    const bool two_relax = singles[std::find(names.begin(), names.end(), "stress_relaxation") - names.begin()].two_relax;
+    std::vector<std::pair<size_t, size_t>> pairs;
+    for (size_t a = 0; a < n_effects; ++a)
+      for (size_t b = a + 1; b < n_effects; ++b)
+        pairs.push_back(singles[a].model.heldout_rmse_N <= singles[b].model.heldout_rmse_N ? std::make_pair(a, b)
+                                                                                           : std::make_pair(b, a));
+    std::vector<Fit> cands(pairs.size());
+    runInParallel(pairs.size(), o.threads, [&](size_t i) {
+      const auto [a, b] = pairs[i];
+      // The parameter layout does not depend on the order of the effects.
+      const std::vector<std::vector<double>> starts = {startsFor(w, singles[a].model, names[b], two_relax).front(),
+                                                       startsFor(w, singles[b].model, names[a], two_relax).front()};
+      cands[i] = fitModel(w, {names[a], names[b]}, starts, wr.fold, o.folds, two_relax);
       fitted();
     });
-    const int best = weighRound(3, current.model, candidatesOf(names, cands), o, &r.evidence);
+    std::vector<Candidate> round2(pairs.size());
+    for (size_t i = 0; i < pairs.size(); ++i) round2[i].effect = names[pairs[i].second], round2[i].score = cands[i].model;
+    IdentifyOptions pair_rule = o;
+    pair_rule.min_heldout_ratio = std::max(o.min_heldout_ratio, o.min_pair_heldout_ratio);
+    const size_t ev0 = r.evidence.size();
+    int best = weighRound(2, current.model, round2, pair_rule, &r.evidence);
+    // Signatures: a set with a stiffening curve can mimic softening (a shifted exponential is
+    // a scaled one) and relaxation can mimic a set, everywhere but at the toe of the
+    // reloadings, where force starts. Among the paying pairs whose held-out ratio is within
+    // signature_ratio_window of the best one, the pair with the smallest toe error is named.
+    const std::vector<bool> toe = toeRows(w, wr);
+    for (size_t i = 0; i < pairs.size(); ++i) r.evidence[ev0 + i].signature_rmse_N = maskedRmse(w, toe, cands[i].model);
+    if (best >= 0) {
+      const double best_ratio = r.evidence[ev0 + best].heldout_ratio;
+      r.evidence[ev0 + best].chosen = false;
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        const CandidateEvidence& e = r.evidence[ev0 + i];
+        if (e.pays && e.heldout_ratio * o.signature_ratio_window >= best_ratio &&
+            e.signature_rmse_N < r.evidence[ev0 + best].signature_rmse_N)
+          best = static_cast<int>(i);
+      }
+      r.evidence[ev0 + best].chosen = true;
+    }
     if (best >= 0) {
       current = std::move(cands[best]);
-      r.effects = {b, names[best]};
+      r.effects = {names[pairs[best].first], names[pairs[best].second]};
+      // The pairs took the relaxation form of the single fit, decided without the other
+      // effect (whose misfit can hide the second branch): the chosen pair tries it again.
+      if (!current.two_relax) secondBranch(w, wr.fold, o, &current);
     }
   }
 
@@ -640,7 +715,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     r.baseline = fitModel(d, {}, {base.theta}, r.fold, o.folds).model;
     r.extended = current.model.effects.empty()
                      ? r.baseline
-                     : fitModel(d, current.model.effects, {current.theta}, r.fold, o.folds).model;
+                     : fitModel(d, current.model.effects, {current.theta}, r.fold, o.folds, current.two_relax).model;
   } else {
     r.baseline = base.model;
     r.extended = current.model;

@@ -39,6 +39,7 @@ nlohmann::json identifyJson(const TensionTest& t, const IdentifyResult& r) {
                    "blocked cross-validation over loading cycles (fold = cycle mod " + std::to_string(o.folds) +
                        "), BIC as second opinion, on a working set of " + std::to_string(r.working_rows) + " rows",
                    o, false, &j);
+  j["evidence"]["rule"]["min_pair_heldout_rmse_ratio"] = o.min_pair_heldout_ratio;
   if (!r.refuted_effects.empty())
     j["refuted"] = {{"effects", r.refuted_effects}, {"heldout_rmse_ratio", r.refuted_heldout_rmse_ratio}};
   addStructure(r.baseline_diagnostics, &j["evidence"]["baseline_residuals"]);

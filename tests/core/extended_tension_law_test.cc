@@ -137,6 +137,44 @@ TEST(ExtendedTensionLaw, AfterALargeStretchTheSampleIsSlackWhereItUsedToResist) 
   EXPECT_LT(law.evaluate(0.03, 0, 1e-3, z.data()).force_N, 0.0);  // longer now: no tension at 3 %
 }
 
+TEST(ExtendedTensionLaw, ASetWithAYieldStrainStartsOnlyBeyondIt) {
+  // e_p = r max(0, e_max - e_y): stretched to 0.15 < e_y = 0.2 the sample keeps its length;
+  // stretched to 0.5 it is longer by r (0.5 - 0.2) = 0.03.
+  ExtendedLawParams p;
+  p.enable("permanent_set");
+  p.ea_N = 20, p.ec_Ns = 0, p.set_ratio = 0.1;
+  ASSERT_TRUE(p.set("set_yield_strain", 0.2));
+  const ExtendedTensionLaw law(p);
+  ASSERT_EQ(law.parameters().back().name, "set_yield_strain");
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  for (int k = 1; k <= 100; ++k) law.advance(0.15 * k / 100, 0, 1e-3, z.data());
+  for (int k = 99; k >= 10; --k) law.advance(0.15 * k / 100, 0, 1e-3, z.data());
+  EXPECT_NEAR(law.evaluate(0.015, 0, 1e-3, z.data()).force_N, 20 * 0.015, 1e-9);
+  for (int k = 10; k <= 500; ++k) law.advance(0.5 * k / 500, 0, 1e-3, z.data());
+  for (int k = 499; k >= 200; --k) law.advance(0.5 * k / 500, 0, 1e-3, z.data());
+  EXPECT_NEAR(law.evaluate(0.2, 0, 1e-3, z.data()).force_N, 20 * (0.2 - 0.03), 1e-9);
+  EXPECT_NEAR(law.storedEnergy(0.2, z.data()), 0.5 * 20 * 0.17 * 0.17, 1e-9);
+  // A yield strain of 0 is the law without a threshold.
+  ExtendedLawParams q = p;
+  q.set_yield_strain = 0;
+  ExtendedLawParams r = p;
+  r.set_yield = false;
+  EXPECT_EQ(ExtendedTensionLaw(r).parameters().size() + 1, law.parameters().size());
+  std::vector<double> zq(law.internalSize()), zr(law.internalSize());
+  ExtendedTensionLaw(q).initInternal(zq.data());
+  ExtendedTensionLaw(r).initInternal(zr.data());
+  for (int k = 1; k <= 300; ++k) {
+    const double e = 0.4 * std::sin(0.02 * k) * std::sin(0.02 * k);
+    ExtendedTensionLaw(q).advance(e, 0, 1e-3, zq.data());
+    ExtendedTensionLaw(r).advance(e, 0, 1e-3, zr.data());
+    EXPECT_EQ(ExtendedTensionLaw(q).evaluate(e, 0, 1e-3, zq.data()).force_N,
+              ExtendedTensionLaw(r).evaluate(e, 0, 1e-3, zr.data()).force_N);
+  }
+  p.set_yield_strain = -0.1;
+  EXPECT_THROW(ExtendedTensionLaw{p}, std::invalid_argument);
+}
+
 TEST(ExtendedTensionLaw, RejectsParametersOutOfRange) {
   ExtendedLawParams p = allEffects();
   p.relax_g1 = 1.2;
