@@ -126,11 +126,12 @@ void WorldSimulation::assist(const AssistInput& a) {
     const Vec3& g = model_.colon.gravity_m_per_s2;
     const double from_rad = std::atan2(g.y(), g.x());
     double by_rad = std::remainder(std::atan2(g_to.y(), g_to.x()) - from_rad, 2 * kPi);
-    // Half a turn either way: roll over the back (the middle of the turn supine, gravity
-    // posterior), or from supine to prone and back over the left side.
+    // Half a turn either way: through the side whose middle has gravity more posterior
+    // (lateral to lateral over the back), ties towards the patient's left (supine to prone
+    // over the left side).
     if (std::abs(std::abs(by_rad) - kPi) < 1e-9) {
-      const double mid_plus = from_rad + kPi / 2;
-      by_rad = std::sin(mid_plus) > 1e-9 || (std::abs(std::sin(mid_plus)) <= 1e-9 && std::cos(mid_plus) > 0) ? kPi : -kPi;
+      auto preference = [](double angle_rad) { return std::sin(angle_rad) + 1e-6 * std::cos(angle_rad); };
+      by_rad = preference(from_rad + kPi / 2) >= preference(from_rad - kPi / 2) ? kPi : -kPi;
     }
     turn_from_rad_ = from_rad;
     turn_by_rad_ = by_rad;

@@ -120,6 +120,14 @@ TEST(Assist, TurningThePatientRotatesGravityAboutTheLongAxis) {
   EXPECT_GT(sim.model().colon.gravity_m_per_s2.y(), 0.99 * g) << "supine half way";
   idle(sim, 0.5 * WorldSimulation::kTurnDuration_s + 0.01);
   EXPECT_NEAR((sim.model().colon.gravity_m_per_s2 - Vec3(g, 0, 0)).norm(), 0.0, 1e-12);
+  // Supine to prone: half a turn over the patient's left side.
+  sim.assist(assistOf(false, "supine"));
+  idle(sim, WorldSimulation::kTurnDuration_s + 0.01);
+  sim.assist(assistOf(false, "prone"));
+  idle(sim, 0.5 * WorldSimulation::kTurnDuration_s);
+  EXPECT_GT(sim.model().colon.gravity_m_per_s2.x(), 0.99 * g) << "left lateral half way";
+  idle(sim, 0.5 * WorldSimulation::kTurnDuration_s + 0.01);
+  EXPECT_NEAR((sim.model().colon.gravity_m_per_s2 - Vec3(0, -g, 0)).norm(), 0.0, 1e-12);
   EXPECT_THROW(sim.assist(assistOf(false, "standing")), InputError);
 }
 
