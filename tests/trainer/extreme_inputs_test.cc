@@ -130,8 +130,26 @@ void expectSurvived(const ExtremeRun& r) {
   EXPECT_LE(r.x.handle_torque_Nm, kGripMargin * grip.max_handle_torque_Nm);
 }
 
-TEST(ExtremeInputs, PushAtOneMetrePerSecondIntoTheCaecum) { expectSurvived(runExtreme("extreme_push")); }
-TEST(ExtremeInputs, SpinTenTurnsPerSecond) { expectSurvived(runExtreme("extreme_spin")); }
+// Issue 16 (core/lumen_check.h), at every step: no slice centre outside its lumen, tracks
+// continuous along the scope, no interaction point 5 mm beyond its wall. The knob slams,
+// the sticky-wall jam and everything at once still push the tip's slice out (docs/hardening.md,
+// "Contact topology"): not asserted for them.
+void expectInTheLumen(const ExtremeRun& r) {
+  EXPECT_EQ(r.scores["lumen_exit_steps"].get<long>(), 0);
+  EXPECT_LT(r.scores["max_track_jump_m"].get<double>(), 0.03);
+  EXPECT_LT(r.scores["max_wall_penetration_m"].get<double>(), 0.005);
+}
+
+TEST(ExtremeInputs, PushAtOneMetrePerSecondIntoTheCaecum) {
+  const ExtremeRun r = runExtreme("extreme_push");
+  expectSurvived(r);
+  expectInTheLumen(r);
+}
+TEST(ExtremeInputs, SpinTenTurnsPerSecond) {
+  const ExtremeRun r = runExtreme("extreme_spin");
+  expectSurvived(r);
+  expectInTheLumen(r);
+}
 TEST(ExtremeInputs, KnobsSwungAndSlammedEndToEnd) { expectSurvived(runExtreme("extreme_knobs")); }
 TEST(ExtremeInputs, EverythingAtOnce) { expectSurvived(runExtreme("extreme_all")); }
 

@@ -139,8 +139,10 @@ rows = {r["key"]: r for r in card}
 assert rows["lumen_visible_pct"]["value"] > 50 and rows["mucosa_visualised_pct"]["value"] > 0, rows
 # 3 s of the insertion see a few % of the mucosa against the expert's 92 %: red.
 assert rows["mucosa_visualised_pct"]["band"] == "red", rows["mucosa_visualised_pct"]
-# free_insertion's expert reaches the caecum: the caecum rows carry a band (red: not reached in 3 s).
-assert rows["caecum_reached"]["band"] == "red" and rows["time_to_caecum_s"]["band"] == "red", rows["caecum_reached"]
+# The caecum rows carry a band when free_insertion's expert reaches the caecum (red: not
+# reached in 3 s), none when it does not (the one patient's scripted run ends 0.18 m short).
+want = "red" if expert["time_to_caecum_s"] is not None else "none"
+assert rows["caecum_reached"]["band"] == want and rows["time_to_caecum_s"]["band"] == want, rows["caecum_reached"]
 print(len(card), "rows equal to colosim score --json; mucosa seen", rows["mucosa_visualised_pct"]["value"], "%")
 
 # The last frame (--screenshot) shows the card: its title bar (ImGui's active title colour,
