@@ -99,6 +99,7 @@ struct FclContactQuery::Impl final : TrackingCandidates {
   std::vector<Vec3> mid;     // centre of each segment's Bezier hull ...
   std::vector<double> rho;   // ... and the radius of a ball around it holding the segment [m]
   std::vector<std::pair<int, int>> pairs;
+  std::vector<std::pair<int, int>> self_pairs;  // the self query's own (it may run beside the wall query)
   std::vector<int> first;    // per scope segment: start of its candidates in `pairs` (K + 1)
   std::vector<int> fill;
   std::vector<std::pair<int, int>> grouped;
@@ -179,6 +180,7 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
   I.scope_mgr->setup();
   I.sphere_mgr->setup();
   I.pairs.reserve(64 * m.scope.segment_count);
+  I.self_pairs.reserve(16 * m.colon.n);
   I.first.resize(m.scope.segment_count + 1);
 }
 
@@ -243,15 +245,15 @@ void FclContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {
     I.sphere_objs[i]->computeAABB();
   }
   I.sphere_mgr->update();
-  I.pairs.clear();
-  PairCollector collector{&I.pairs};
+  I.self_pairs.clear();
+  PairCollector collector{&I.self_pairs};
   I.sphere_mgr->collide(&collector, collectPair);
-  for (auto& pr : I.pairs)
+  for (auto& pr : I.self_pairs)
     if (pr.first > pr.second) std::swap(pr.first, pr.second);
-  std::sort(I.pairs.begin(), I.pairs.end());
+  std::sort(I.self_pairs.begin(), I.self_pairs.end());
   s.self.clear();
   SelfContact c;
-  for (const auto& [a, b] : I.pairs)
+  for (const auto& [a, b] : I.self_pairs)
     if (selfOverlap(m, s.colon, a, b, &c)) s.self.push_back(c);
 }
 
