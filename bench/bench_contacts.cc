@@ -9,6 +9,7 @@
 #include "bench/registry.h"
 #include "bench/timing.h"
 #include "collision/contact_query.h"
+#include "core/step_lanes.h"
 #include "trainer/assets.h"
 
 namespace colosim {
@@ -50,6 +51,15 @@ BenchOutput benchContacts() {
   const BlockTiming step_t = timeBlocks(21, 50, [&] { stepWorld(m, s, hold, q, 1e-3); });
   const double step_us = step_t.wall_us;
   size_t contacts = s.wall.size();
+  // The same steps with the independent halves on two lanes (core/step_lanes.h), from the
+  // same start: the same bits, checked here on the state after the timed steps.
+  WorldState s2 = start;
+  FclContactQuery q2(m);
+  StepLanes lanes;
+  const BlockTiming lanes_t = timeBlocks(21, 50, [&] { stepWorld(m, s2, hold, q2, 1e-3, &lanes); });
+  const bool lanes_same = hashWorldState(s2) == hashWorldState(s);
+  const double taken_back = static_cast<double>(lanes.callerTookBack()) /
+                            std::max(1L, lanes.callerTookBack() + lanes.workerRan());
 
   BenchOutput out;
   nlohmann::json mgr = nlohmann::json::object();
@@ -62,8 +72,12 @@ BenchOutput benchContacts() {
               {"scan_query_us", scan_us},
               {"ratio", scan_us / fcl_us},
               {"step_us", step_us},
+              {"step_two_lanes_us", lanes_t.wall_us},
+              {"two_lanes_same_state", lanes_same},
+              {"two_lanes_taken_back_fraction", taken_back},
               {"cpu", {{"fcl_query_us", fcl_t.cpu_us}, {"scan_query_us", scan_t.cpu_us},
-                       {"ratio", scan_t.cpu_us / fcl_t.cpu_us}, {"step_us", step_t.cpu_us}}},
+                       {"ratio", scan_t.cpu_us / fcl_t.cpu_us}, {"step_us", step_t.cpu_us},
+                       {"step_two_lanes_us", lanes_t.cpu_us}}},
               {"fcl_managers_query_us", mgr}};
   char buf[256];
   std::string text = "contacts, adult colon, scope inserted to the caecum (medians):\n";
@@ -78,6 +92,9 @@ BenchOutput benchContacts() {
   std::snprintf(buf, sizeof buf, "  paper's scan query            %9.1f us %12.1f us\n  ratio scan / FCL              %9.1f x  %12.1f x\n"
                 "  whole physics step            %9.1f us %12.1f us (colon + scope + contacts + self-collision)\n",
                 scan_us, scan_t.cpu_us, scan_us / fcl_us, scan_t.cpu_us / fcl_t.cpu_us, step_us, step_t.cpu_us);
+  text += buf;
+  std::snprintf(buf, sizeof buf, "  the same step on two lanes      %9.1f us %12.1f us (caller thread; state %s; %.0f %% of tasks taken back)\n",
+                lanes_t.wall_us, lanes_t.cpu_us, lanes_same ? "identical" : "DIFFERENT", 100 * taken_back);
   text += buf;
   out.text = text;
   return out;

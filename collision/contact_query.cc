@@ -99,6 +99,7 @@ struct FclContactQuery::Impl final : TrackingCandidates {
   std::vector<Vec3> mid;     // centre of each segment's Bezier hull ...
   std::vector<double> rho;   // ... and the radius of a ball around it holding the segment [m]
   std::vector<std::pair<int, int>> pairs;
+  std::vector<std::pair<int, int>> self_pairs;  // the self query's own (it may run beside the wall query)
   std::vector<int> first;    // per scope segment: start of its candidates in `pairs` (K + 1)
   std::vector<int> fill;
   std::vector<std::pair<int, int>> grouped;
@@ -179,7 +180,9 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
   I.scope_mgr->setup();
   I.sphere_mgr->setup();
   I.pairs.reserve(64 * m.scope.segment_count);
+  I.self_pairs.reserve(16 * m.colon.n);
   I.first.resize(m.scope.segment_count + 1);
+  I.fill.reserve(std::max(nseg, m.scope.segment_count) + 1);
 }
 
 FclContactQuery::~FclContactQuery() = default;
@@ -219,18 +222,21 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
   I.pairs.clear();
   PairCollector collector{&I.pairs};
   I.colon_mgr->collide(I.scope_mgr.get(), &collector, collectPair);
-  // Candidates grouped by scope segment (a counting sort), each group in ascending colon
-  // segment order: the result does not depend on the tree's traversal order.
+  // Candidates grouped by scope segment, each group in ascending colon segment order: the
+  // result does not depend on the tree's traversal order. Two stable counting sorts (by
+  // colon segment, then by scope segment) give that order without comparisons (the sort
+  // of each group took a tenth of the step).
   const int K = m.scope.segment_count;
-  std::fill(I.first.begin(), I.first.end(), 0);
-  for (const auto& pr : I.pairs) ++I.first[pr.second + 1];
-  for (int k = 0; k < K; ++k) I.first[k + 1] += I.first[k];
   I.grouped.resize(I.pairs.size());
+  I.fill.assign(nseg + 1, 0);
+  for (const auto& pr : I.pairs) ++I.fill[pr.first + 1];
+  for (int j = 0; j < nseg; ++j) I.fill[j + 1] += I.fill[j];
+  for (const auto& pr : I.pairs) I.grouped[I.fill[pr.first]++] = pr;
+  std::fill(I.first.begin(), I.first.end(), 0);
+  for (const auto& pr : I.grouped) ++I.first[pr.second + 1];
+  for (int k = 0; k < K; ++k) I.first[k + 1] += I.first[k];
   I.fill.assign(I.first.begin(), I.first.end() - 1);
-  for (const auto& pr : I.pairs) I.grouped[I.fill[pr.second]++] = pr;
-  for (int k = 0; k < K; ++k)
-    std::sort(I.grouped.begin() + I.first[k], I.grouped.begin() + I.first[k + 1]);
-  I.pairs.swap(I.grouped);
+  for (const auto& pr : I.grouped) I.pairs[I.fill[pr.second]++] = pr;
 
   // Narrowphase: the contact model's tracking, with the broadphase's candidates.
   I.tracker.trackWallContacts(m, s, I);
@@ -243,15 +249,15 @@ void FclContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {
     I.sphere_objs[i]->computeAABB();
   }
   I.sphere_mgr->update();
-  I.pairs.clear();
-  PairCollector collector{&I.pairs};
+  I.self_pairs.clear();
+  PairCollector collector{&I.self_pairs};
   I.sphere_mgr->collide(&collector, collectPair);
-  for (auto& pr : I.pairs)
+  for (auto& pr : I.self_pairs)
     if (pr.first > pr.second) std::swap(pr.first, pr.second);
-  std::sort(I.pairs.begin(), I.pairs.end());
+  std::sort(I.self_pairs.begin(), I.self_pairs.end());
   s.self.clear();
   SelfContact c;
-  for (const auto& [a, b] : I.pairs)
+  for (const auto& [a, b] : I.self_pairs)
     if (selfOverlap(m, s.colon, a, b, &c)) s.self.push_back(c);
 }
 

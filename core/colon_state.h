@@ -43,6 +43,10 @@ struct ColonState {
   Eigen::VectorXd rhs;              ///< right-hand side, then dv (3n)
   Eigen::VectorXd force;            ///< total force f (3n) [N]
   Eigen::VectorXd scratch;          ///< (3n)
+  /// The stiffening lifters' quadrature nodes (Gauss4 per segment, segment-major): their
+  /// blends and rest points [m], constant for a model; filled with constant_system.
+  std::vector<Blend> gauss_blend;
+  std::vector<Vec3> gauss_rest_m;
 };
 
 /// A state at rest in the model's rest configuration, with scratch sized for the model

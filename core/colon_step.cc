@@ -63,6 +63,13 @@ void buildConstantSystem(const ColonModel& m, ColonState& s, double dt) {
       for (int d = 0; d < 3; ++d) a.lower(3 * i + d, 3 * l + d) = v;
     }
   s.constant_system_dt_s = dt;
+  s.gauss_blend.clear();
+  s.gauss_rest_m.clear();
+  for (int j = 0; j + 1 < m.n; ++j)
+    for (int g = 0; g < Gauss4::kCount; ++g) {
+      s.gauss_blend.push_back(blend(m.n, j, Gauss4::node[g], 0));
+      s.gauss_rest_m.push_back(apply(s.gauss_blend.back(), m.q_rest));
+    }
 }
 
 // Spreads a load at a spline point (blending b) over its 4 control points: f_i += w_a F,
@@ -168,9 +175,9 @@ void addLifterStiffening(const ColonModel& m, ColonState& s, double dt) {
     const double k0 = m.segment_k_N_per_m2(j);
     if (!(k0 > 0)) continue;
     for (int g = 0; g < Gauss4::kCount; ++g) {
-      const Blend b = blend(n, j, Gauss4::node[g], 0);
+      const Blend& b = s.gauss_blend[j * Gauss4::kCount + g];
       const double w = Gauss4::weight[g] * m.segment_length_m(j);  // [m]
-      const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
+      const Vec3 u = apply(b, s.q) - s.gauss_rest_m[j * Gauss4::kCount + g];
       const Vec3 fd = w * lifterStiffeningForceDensity(u, k0, beta);  // [N]
       const Mat3 T = w * lifterStiffeningTangent(u, k0, beta);        // [N/m]
       const Vec3 Tv = T * apply(b, s.v);

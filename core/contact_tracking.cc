@@ -143,8 +143,10 @@ void ContactTracker::trackWallContacts(const WorldModel& m, WorldState& s, Track
       const Vec3 centre = sliceCentre(m.scope, s.scope, k, sl);
       SplineLocation axis = nearestOnPart(m, centre, anchor, k, candidates);
       // ... or, when nearer, where the slice itself was a step ago, walked from there.
+      // (A walk from the segment the axis already lies inside of would only find the axis
+      // again: its first closest point is the axis's own, strictly inside the segment.)
       const int before = s.slice_track[k * slices + sl].colon_segment;
-      if (before >= 0) {
+      if (before >= 0 && !(before == axis.j && axis.p > 0.0 && axis.p < 1.0)) {
         const SplineLocation own = walkToNearest(cubics_, centre, before);
         if (own.d < axis.d) axis = own;
       }

@@ -8,6 +8,7 @@
 
 #include "core/colon_step.h"
 #include "core/scope_step.h"
+#include "core/step_lanes.h"
 
 namespace colosim {
 
@@ -33,10 +34,15 @@ WorldState makeWorldState(const WorldModel& m) {
   return s;
 }
 
-void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, ContactQuery& q, double dt) {
+void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, ContactQuery& q, double dt,
+               StepLanes* lanes) {
   // Broadphase and narrowphase: contacts of the state at the start of the step.
-  q.findWallContacts(m, s);
-  q.findSelfContacts(m, s);
+  if (lanes) {
+    lanes->run([&] { q.findSelfContacts(m, s); }, [&] { q.findWallContacts(m, s); });
+  } else {
+    q.findWallContacts(m, s);
+    q.findSelfContacts(m, s);
+  }
   // Forces: each contact loads both bodies, with its stiffness for the implicit solves.
   s.colon.loads.clear();
   s.scope.loads.clear();
@@ -45,8 +51,12 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
   for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
   // Solve and integrate, each body with the other's contact forces held over the step.
-  stepColon(m.colon, s.colon, dt);
-  stepScope(m.scope, s.scope, in, dt);
+  if (lanes) {
+    lanes->run([&] { stepColon(m.colon, s.colon, dt); }, [&] { stepScope(m.scope, s.scope, in, dt); });
+  } else {
+    stepColon(m.colon, s.colon, dt);
+    stepScope(m.scope, s.scope, in, dt);
+  }
 }
 
 void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_m, double rotation_rad) {

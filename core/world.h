@@ -27,6 +27,8 @@ struct WorldModel {
 /// tangent there; d2 ("up") faces anterior (-y) at zero handle rotation.
 WorldModel makeWorldModel(ColonModel colon, const ScopeParams& scope, const ContactParams& contact);
 
+class StepLanes;
+
 struct WorldState {
   ColonState colon;
   ScopeState scope;
@@ -65,9 +67,12 @@ class ContactQuery {
 };
 
 /// One step of the world, dt_s [s]: contacts (query), contact forces, abdominal pressure
-/// (state.support), colon step, scope step.
+/// (state.support), colon step, scope step. With lanes (core/step_lanes.h), the wall and
+/// self queries run at the same time, and so do the colon and scope steps: the same bits
+/// as without (the query's two finds must then not share scratch data; both shipped
+/// queries keep them apart).
 void stepWorld(const WorldModel& model, WorldState& state, const HandleInput& input, ContactQuery& query,
-               double dt_s);
+               double dt_s, StepLanes* lanes = nullptr);
 
 /// The interaction point i of scope segment k in the world [m].
 inline Vec3 interactionPoint(const ScopeModel& m, const ScopeState& s, int k, int i) {
