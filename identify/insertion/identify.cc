@@ -505,7 +505,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   if (refine && fine_baseline.ok) {
     // Refinement at the data's resolution. The search's leaders (its choice and the round-1
     // candidates with the largest held-out ratios, o.fine_candidates in all) are searched
-    // again with fine replays - x 1/2, 1, 2 of the search's magnitude, a bracket halving, the
+    // again with fine replays - x 1/2, 1, 2 of the search's magnitude, three bracket halvings, the
     // parabola's vertex - and weighed against the paper's model at the data's resolution by
     // the same rule; a second effect of the search, when its first is confirmed, is refined
     // likewise around its value and weighed again. Every reported figure is from these replays.
@@ -553,8 +553,10 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
           if (std::find(values[c].begin(), values[c].end(), v) == values[c].end()) values[c].push_back(v);
         }
       runStage(values);
-      for (size_t c = 0; c < effs.size(); ++c) values[c] = bracketMidpoints(rec, ev[c], upperBound(effs[c]));
-      runStage(values);
+      for (int halving = 0; halving < 3; ++halving) {
+        for (size_t c = 0; c < effs.size(); ++c) values[c] = bracketMidpoints(rec, ev[c], upperBound(effs[c]));
+        runStage(values);
+      }
       for (size_t c = 0; c < effs.size(); ++c) {
         values[c].clear();
         const double v = parabolaVertex(rec, ev[c]);
