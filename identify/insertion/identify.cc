@@ -276,10 +276,12 @@ std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdent
   }
   if (r.data_spacing_m != r.search_spacing_m) {
     std::snprintf(buf, sizeof buf,
-                  "Searched at %.3f m %s (%.3f N RMS), chose [%s]; its leaders searched again, weighed and "
+                  "Searched at %.3f m %s (%.3f N RMS), chose [%s]; %s searched again, weighed and "
                   "reported at the data's %.3f m (%d of the simulations):\n",
                   r.search_spacing_m, o.mismatch_term ? "with the fine-versus-coarse mismatch added" : "WITHOUT the mismatch term",
-                  r.mismatch_rms_N, join(r.search_effects).c_str(), r.data_spacing_m, r.fine_simulations);
+                  r.mismatch_rms_N, join(r.search_effects).c_str(),
+                  r.fine_all_candidates ? "its leaders left structure, so every candidate was" : "its leaders",
+                  r.data_spacing_m, r.fine_simulations);
     d << buf;
   }
   for (const CandidateEvidence& e : r.fine_evidence) {
@@ -505,7 +507,8 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   if (refine && fine_baseline.ok) {
     // Refinement at the data's resolution. The search's leaders (its choice and the round-1
     // candidates with the largest held-out ratios, o.fine_candidates in all) are searched
-    // again with fine replays - x 1/2, 1, 2 of the search's magnitude, three bracket halvings, the
+    // again with fine replays - x 1/2, 1, 2 of the search's magnitude, x 4 while the largest is
+    // the best, three bracket halvings, the
     // parabola's vertex - and weighed against the paper's model at the data's resolution by
     // the same rule; a second effect of the search, when its first is confirmed, is refined
     // likewise around its value and weighed again. Every reported figure is from these replays.
@@ -553,6 +556,28 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
           if (std::find(values[c].begin(), values[c].end(), v) == values[c].end()) values[c].push_back(v);
         }
       runStage(values);
+      // The search's magnitude can be far off when the mismatch changes with the effect: while
+      // the best is the largest value tried (below the bound), try 4 times it (up to 3 times).
+      for (int expand = 0; expand < 3; ++expand) {
+        bool any = false;
+        for (size_t c = 0; c < effs.size(); ++c) {
+          values[c].clear();
+          const std::vector<char> all(rec.rows(), 1);
+          size_t best = 0;
+          double best_sse = 1e300, largest = 0;
+          for (size_t i = 0; i < ev[c].value.size(); ++i) {
+            largest = std::max(largest, ev[c].value[i]);
+            if (!ev[c].pred[i].ok) continue;
+            const double sse = score(rec.force_N, ev[c].pred[i].force_N, all).sse;
+            if (sse < best_sse) best_sse = sse, best = i;
+          }
+          const double v = ev[c].value[best];
+          if (v > 0 && v == largest && v < upperBound(effs[c])) values[c].push_back(std::min(upperBound(effs[c]), 4 * v));
+          any = any || !values[c].empty();
+        }
+        if (!any) break;
+        runStage(values);
+      }
       for (int halving = 0; halving < 3; ++halving) {
         for (size_t c = 0; c < effs.size(); ++c) values[c] = bracketMidpoints(rec, ev[c], upperBound(effs[c]));
         runStage(values);
@@ -590,9 +615,28 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     if (!fc.empty()) {
       std::vector<double> from;
       for (const std::string& e : fc) from.push_back(search_value.count(e) ? search_value[e] : organEffectValue(current, e));
-      const std::vector<Evaluated> ev = fineSearch(OrganParams{}, fine_baseline, fc, from, {0.5, 1.0, 2.0});
+      std::vector<Evaluated> ev = fineSearch(OrganParams{}, fine_baseline, fc, from, {0.5, 1.0, 2.0});
       std::vector<CvResult> cvs;
-      const int pick = fineWeigh(1, model, fc, ev, &cvs);
+      int pick = fineWeigh(1, model, fc, ev, &cvs);
+      // The leaders leave structure (no pick, or the pick unexplained): the search's ranking
+      // is not to be trusted there (a nonlinear tension effect strains 3 cm elements otherwise
+      // than 1.5 cm ones: the mismatch changes with it), so every other candidate is searched
+      // at the data's resolution too, from its grid's second value, and all are weighed again.
+      const InsertionFit& best_fit = pick >= 0 ? makeFit({fc[pick]}, OrganParams{}, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse) : model;
+      if (isUnexplained(diagnose(rec, best_fit), o)) {
+        std::vector<std::string> rest;
+        std::vector<double> rest_from;
+        for (const std::string& e : organEffectNames())
+          if (std::find(fc.begin(), fc.end(), e) == fc.end()) rest.push_back(e), rest_from.push_back(grid(e)[1]);
+        if (!rest.empty()) {
+          const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from, {0.5, 1.0, 2.0});
+          fc.insert(fc.end(), rest.begin(), rest.end());
+          ev.insert(ev.end(), more.begin(), more.end());
+          r.fine_evidence.clear();
+          r.fine_all_candidates = true;
+          pick = fineWeigh(1, model, fc, ev, &cvs);
+        }
+      }
       if (pick >= 0) {
         fine_chosen.push_back(fc[pick]);
         setOrganEffect(fine_current, fc[pick], ev[pick].value[cvs[pick].best]);
@@ -668,6 +712,7 @@ nlohmann::json organIdentifyJson(const InsertionRecording& rec, const InsertionI
     nlohmann::json fine = nlohmann::json::array();
     for (const CandidateEvidence& e : r.fine_evidence) fine.push_back(candidateJson(e, true));
     j["evidence"]["refinement"] = {{"search_effects", r.search_effects}, {"candidates", fine},
+                                   {"all_candidates", r.fine_all_candidates},
                                    {"mismatch_rms_N", r.mismatch_rms_N}, {"data_spacing_m", r.data_spacing_m}};
   }
   if (!r.refuted_effects.empty())

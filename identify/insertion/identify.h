@@ -32,7 +32,7 @@ struct InsertionIdentifyOptions : IdentifyOptions {
   bool mismatch_term = true;
   /// Effects searched again at the data's resolution: the search's first choice and the
   /// round-1 candidates with the largest held-out ratios, this many in all.
-  int fine_candidates = 2;
+  int fine_candidates = 3;
 };
 
 struct InsertionIdentifyResult {
@@ -52,6 +52,7 @@ struct InsertionIdentifyResult {
   double data_spacing_m = 0;
   std::vector<std::string> search_effects;      ///< what the coarse search chose (before the refinement)
   std::vector<CandidateEvidence> fine_evidence; ///< the refinement's candidates at the data's resolution
+  bool fine_all_candidates = false;             ///< the leaders left structure: every candidate refined
   int fine_simulations = 0;           ///< replays at the data's resolution (in `simulations`)
   double mismatch_rms_N = 0;          ///< RMS fine-minus-coarse force of the last round's start model [N]
   /// Effects the selection chose whose reported held-out gain is not above 1
