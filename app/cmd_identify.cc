@@ -29,7 +29,7 @@ struct IdentifyOptionsCli {
 // (identify/insertion/identify.h; docs/organ-identification.md).
 int runIdentifyInsertion(const IdentifyOptionsCli& o) {
   const InsertionRecording rec = readInsertionRecording(o.data);
-  const Scenario scenario = findScenario(rec.scenario);
+  const Scenario scenario = recordingScenario(rec);
   const ReplaySetup setup = makeReplaySetup(scenario);
   InsertionIdentifyOptions opt;
   ProgressBar bar("identify " + rec.scenario, 1000, stderrIsTerminal() && !o.json);

@@ -11,6 +11,7 @@
 
 #include "app/commands.h"
 #include "app/options.h"
+#include "identify/insertion/recording.h"
 #include "trainer/progress.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
@@ -43,6 +44,30 @@ struct RunOptions {
   std::string trace;        // CSV of the telemetry (a new file)
   double trace_hz = 10;     // trace rows per simulated second
 };
+
+// The header of a --trace file: a recorded insertion of this run (scenario and parameter
+// file named as a session names them) and how it was simulated.
+void writeTraceHeader(std::FILE* f, const Scenario& scenario, const WorldSimulation& sim) {
+  std::fprintf(f, "# colosim-measurement v1\n# experiment: insertion\n# scenario: %s\n",
+               (scenario.id.empty() ? scenario.file : scenario.id).c_str());
+  if (scenario.params_replaced) std::fprintf(f, "# params: %s\n", scenario.params_path.c_str());
+  std::fprintf(f, "# note: colosim run --trace (simulated, no sensor noise); columns after tip_z_m are telemetry\n");
+  std::fprintf(f, "# simulated_with: %d control points (mean spacing %.4g m), dt %.4g s\n", sim.model().colon.n,
+               sim.model().colon.rest_length_m.mean(), sim.dt_s());
+  const std::vector<std::string> columns = insertionTraceColumns();
+  for (size_t c = 0; c < columns.size(); ++c) std::fprintf(f, "%s%s", c ? "," : "", columns[c].c_str());
+  std::fprintf(f, "\n");
+}
+
+// One row: inputs to 1e-10 (the replay threads and steps with them), force and torque to
+// 1e-7 N and N m.
+void writeTraceRow(std::FILE* f, const Telemetry& t) {
+  std::fprintf(f, "%.6f,%.10f,%.10f,%.10f,%.10f,%.7f,%.8f,%.6f,%.6f,%.6f,%.4f,%.5f,%.4f,%.4f,%g\n", t.time_s,
+               t.input.insertion_m, t.input.rotation_rad, t.input.knob_updown_rad, t.input.knob_leftright_rad,
+               t.handle_force_N, t.handle_torque_Nm, t.tip_position_m.x(), t.tip_position_m.y(),
+               t.tip_position_m.z(), t.wall_force_peak_N, t.tip_to_caecum_m, t.tip_arclength_m, t.mesentery_stretch,
+               t.loop_turns);
+}
 
 int runSettle(const RunOptions& o) {
   const Parameters params = loadParameters(o.params.empty() ? assetPath("params/default.json") : o.params);
@@ -105,23 +130,22 @@ int runScripted(const RunOptions& o) {
     peak_torque = std::max(peak_torque, std::abs(t.handle_torque_Nm));
     max_loop = std::max(max_loop, std::abs(t.loop_turns));
   };
-  // --trace: one CSV row of the telemetry every 1 / trace_hz simulated seconds.
+  // --trace: a recorded insertion (docs/organ-identification.md, "The recording format")
+  // with the telemetry after its columns: a row at the start state and one every
+  // 1 / trace_hz simulated seconds. Each row is the step ending at its time with the input
+  // commanded in that step (as colosim identify replays a row: identify/insertion/replay.h),
+  // so that the trace plus sensor noise is a recording that replays to the noise.
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> trace(nullptr, &std::fclose);
   if (!o.trace.empty()) {
     trace.reset(std::fopen(o.trace.c_str(), "wx"));
     if (!trace) throw InputError(o.trace + ": cannot create the file");
-    std::fprintf(trace.get(),
-                 "time_s,insertion_m,rotation_rad,handle_force_N,handle_torque_Nm,wall_force_peak_N,"
-                 "tip_x_m,tip_y_m,tip_z_m,tip_to_caecum_m,tip_arclength_m,mesentery_stretch,loop_turns\n");
+    writeTraceHeader(trace.get(), scenario, sim);
+    writeTraceRow(trace.get(), sim.telemetry());
     const long every = std::max(1L, std::lround(1.0 / (o.trace_hz * dt_s)));
-    long n = 0;
-    hooks.on_step = [&, every, n, record = hooks.on_step](const Telemetry& t) mutable {
+    long done = 0;
+    hooks.on_step = [&, every, done, record = hooks.on_step](const Telemetry& t) mutable {
       record(t);
-      if (n++ % every != 0) return;
-      std::fprintf(trace.get(), "%.4f,%.5f,%.4f,%.4f,%.5f,%.4f,%.5f,%.5f,%.5f,%.5f,%.4f,%.4f,%g\n", t.time_s,
-                   t.input.insertion_m, t.input.rotation_rad, t.handle_force_N, t.handle_torque_Nm,
-                   t.wall_force_peak_N, t.tip_position_m.x(), t.tip_position_m.y(), t.tip_position_m.z(),
-                   t.tip_to_caecum_m, t.tip_arclength_m, t.mesentery_stretch, t.loop_turns);
+      if (++done % every == 0) writeTraceRow(trace.get(), t);
     };
   }
   const std::shared_ptr<FrameExporter> frames = addFrameExport(hooks, o.frames, o.video, o.view, size, o.fps, dt_s);

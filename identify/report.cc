@@ -10,8 +10,6 @@
 
 namespace colosim {
 
-namespace {
-
 nlohmann::json candidateJson(const CandidateEvidence& e, bool with_magnitude) {
   nlohmann::json c = {{"round", e.round}, {"effect", e.effect}, {"model", e.model}, {"rmse_N", e.rmse_N},
                       {"heldout_rmse_N", e.heldout_rmse_N}, {"heldout_rmse_ratio", e.heldout_ratio},
@@ -24,8 +22,6 @@ nlohmann::json candidateJson(const CandidateEvidence& e, bool with_magnitude) {
   }
   return c;
 }
-
-}  // namespace
 
 nlohmann::json scoreJson(const ModelScore& m) {
   return {{"effects", m.effects}, {"rmse_N", m.rmse_N}, {"heldout_rmse_N", m.heldout_rmse_N},

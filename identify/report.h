@@ -31,6 +31,10 @@ struct SelectionSummary {
   const Diagnostics* extended_diagnostics = nullptr;
   std::string diagnosis;
 };
+/// One candidate's evidence (round, effect, model, errors, ratio, dAIC, dBIC, pays, chosen;
+/// with_magnitude: value and simulations).
+nlohmann::json candidateJson(const CandidateEvidence& e, bool with_magnitude);
+
 /// The summary of a result of either source (IdentifyResult, InsertionIdentifyResult).
 template <class Result>
 SelectionSummary selectionSummary(const Result& r) {

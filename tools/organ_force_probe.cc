@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const InsertionRecording rec = readInsertionRecording(argv[1]);
-  const ReplaySetup setup = makeReplaySetup(findScenario(rec.scenario), 0.03);
+  const ReplaySetup setup = makeReplaySetup(recordingScenario(rec), 0.03);
   OrganParams p;
   if (std::string(argv[2]) != "none") setOrganEffect(p, argv[2], std::atof(argv[3]));
   const double from = std::atof(argv[4]), to = std::atof(argv[5]);

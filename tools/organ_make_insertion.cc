@@ -1,7 +1,8 @@
 // Writes a synthetic insertion recording (identify/insertion/synthetic.h):
 //   organ_make_insertion OUT.csv EFFECT VALUE DURATION_S SEED [CYCLES|hHOLDS [AMPLITUDE_M START_M]]
 // EFFECT "none" hides nothing; VALUE "drawn" draws it (and the protocol) as the tests do. CYCLES > 0: insert / withdraw cycles (amplitude and start depth
-// drawn from the seed unless given); hHOLDS (e.g. h2): that many push-and-hold stages (AMPLITUDE_M: the step). Made at the identification's search resolution (0.03 m).
+// drawn from the seed unless given); hHOLDS (e.g. h2): that many push-and-hold stages (AMPLITUDE_M: the step). Made at the parameter file's resolution (0.015 m),
+// twice as fine as the identification's search (0.03 m): data the search's model did not make.
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -29,7 +30,7 @@ int main(int argc, char** argv) {
     s.start_insertion_m = std::atof(argv[8]);
   }
   if (effect != "none" && value != "drawn") s.effect = effect, s.value = std::atof(argv[3]);
-  const ReplaySetup setup = makeReplaySetup(findScenario(s.scenario), 0.03);
+  const ReplaySetup setup = makeReplaySetup(findScenario(s.scenario));
   const InsertionRecording r = makeSyntheticInsertion(setup, s);
   writeInsertionRecording(argv[1], r);
   return 0;

@@ -36,11 +36,46 @@ double upperBound(const std::string& e) {
   return 0.95;  // relax_g1, soften_d_inf < 1
 }
 
-// Runs the replays of several extension sets on `threads` threads.
+// The discretisation mismatch of the search: what the model at the data's resolution
+// predicts minus what the search's coarser model predicts, for the same extensions, per row
+// (force [N], torque [N m], tip [m]). Added to every coarse replay, it makes the search see
+// the fine model's answer to first order (the mismatch depends little on the extensions;
+// it is estimated again for the model each round starts from).
+struct Mismatch {
+  std::vector<double> force_N, torque_Nm;
+  std::vector<Vec3> tip_m;
+  bool empty() const { return force_N.empty(); }
+};
+Mismatch mismatchOf(const Prediction& fine, const Prediction& coarse) {
+  Mismatch m;
+  if (!fine.ok || !coarse.ok) return m;
+  const size_t n = fine.force_N.size();
+  m.force_N.resize(n), m.torque_Nm.resize(n), m.tip_m.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    m.force_N[k] = fine.force_N[k] - coarse.force_N[k];
+    m.torque_Nm[k] = fine.torque_Nm[k] - coarse.torque_Nm[k];
+    m.tip_m[k] = fine.tip_m[k] - coarse.tip_m[k];
+  }
+  return m;
+}
+void addMismatch(const Mismatch& m, Prediction* p) {
+  if (m.empty()) return;
+  for (size_t k = 0; k < p->force_N.size(); ++k) {
+    p->force_N[k] += m.force_N[k];
+    p->torque_Nm[k] += m.torque_Nm[k];
+    p->tip_m[k] += m.tip_m[k];
+  }
+}
+
+// Runs the replays of several extension sets on `threads` threads (with the mismatch term
+// added to each, when there is one).
 std::vector<Prediction> replayAll(const ReplaySetup& setup, const InsertionRecording& rec,
-                                  const std::vector<OrganParams>& jobs, int threads) {
+                                  const std::vector<OrganParams>& jobs, int threads, const Mismatch& mismatch = {}) {
   std::vector<Prediction> out(jobs.size());
-  runInParallel(jobs.size(), threads, [&](size_t i) { out[i] = replayInsertion(setup, rec, jobs[i]); });
+  runInParallel(jobs.size(), threads, [&](size_t i) {
+    out[i] = replayInsertion(setup, rec, jobs[i]);
+    addMismatch(mismatch, &out[i]);
+  });
   return out;
 }
 
@@ -180,6 +215,12 @@ double parabolaVertex(const InsertionRecording& rec, const Evaluated& ev) {
   return std::exp(x);
 }
 
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& e : v) s += (s.empty() ? "" : " + ") + e;
+  return s;
+}
+
 // The diagnosis, for people: the paper's model and where it fails, the named causes and
 // the gain, a round not run, the cost.
 std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdentifyOptions& o) {
@@ -199,7 +240,15 @@ std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdent
     }
     d << "\n";
   }
-  if (r.effects.empty()) {
+  if (!r.refuted_effects.empty()) {
+    d << "Cause: none. The selection chose";
+    for (const std::string& e : r.refuted_effects) d << " " << e;
+    std::snprintf(buf, sizeof buf,
+                  ", but its held-out gain at the data's resolution is %.3f (<= 1): not a cause. No effect is named; "
+                  "structure remains that no candidate explains (unexplained).\n",
+                  r.refuted_heldout_rmse_ratio);
+    d << buf;
+  } else if (r.effects.empty()) {
     std::snprintf(buf, sizeof buf, "No candidate pays for itself (held-out error -%.0f %% and BIC %.0f): ",
                   (o.min_heldout_ratio - 1) * 100, o.max_delta_bic);
     d << buf
@@ -225,6 +274,22 @@ std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdent
                   r.skipped_round, r.extended.heldout_rmse_N, (o.min_heldout_ratio - 1) * 100, r.skipped_noise_sd_N);
     d << buf;
   }
+  if (r.data_spacing_m != r.search_spacing_m) {
+    std::snprintf(buf, sizeof buf,
+                  "Searched at %.3f m %s (%.3f N RMS), chose [%s]; %s searched again, weighed and "
+                  "reported at the data's %.3f m (%d of the simulations):\n",
+                  r.search_spacing_m, o.mismatch_term ? "with the fine-versus-coarse mismatch added" : "WITHOUT the mismatch term",
+                  r.mismatch_rms_N, join(r.search_effects).c_str(),
+                  r.fine_all_candidates ? "its leaders left structure, so every candidate was" : "its leaders",
+                  r.data_spacing_m, r.fine_simulations);
+    d << buf;
+  }
+  for (const CandidateEvidence& e : r.fine_evidence) {
+    std::snprintf(buf, sizeof buf, "  at %.3f m: %s%s%s = %.4g, held-out ratio %.3f, dBIC %+.1f%s\n", r.data_spacing_m,
+                  e.round > 1 ? "then " : "", e.effect.c_str(), e.round > 1 ? "" : "", e.value, e.heldout_ratio,
+                  e.delta_bic, e.chosen ? " <- named" : e.pays ? " (pays, not best)" : "");
+    d << buf;
+  }
   std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
                 r.search_spacing_m, r.seconds);
   d << buf;
@@ -232,6 +297,15 @@ std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdent
 }
 
 }  // namespace
+
+void refuteUnconfirmedGain(InsertionIdentifyResult* r) {
+  if (r->effects.empty() || gainConfirmed(r->heldout_rmse_ratio)) return;
+  r->refuted_effects = r->effects;
+  r->refuted_heldout_rmse_ratio = r->heldout_rmse_ratio;
+  r->effects.clear();
+  r->extended = r->baseline;
+  r->heldout_rmse_ratio = 1;
+}
 
 int insertionMotion(const InsertionRecording& rec, size_t k) {
   const size_t n = rec.rows();
@@ -251,6 +325,14 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     setup.params.scope.segment_length_m = o.search_spacing_m;
   }
   r.search_spacing_m = setup.params.colon.control_point_spacing_m;
+  // Coarse search, then refinement at the data's resolution (the parameter file's): the
+  // search's replays carry the fine-versus-coarse mismatch of the model each round starts
+  // from, and the named magnitudes and every reported figure come from fine replays.
+  const bool refine = full_setup.params.colon.control_point_spacing_m != setup.params.colon.control_point_spacing_m ||
+                      full_setup.params.scope.segment_length_m != setup.params.scope.segment_length_m;
+  r.data_spacing_m = full_setup.params.colon.control_point_spacing_m;
+  Mismatch mismatch;
+  Prediction fine_baseline;
   r.threads = std::max(1, o.threads);
   const size_t n = rec.rows();
   const int N = static_cast<int>(n);
@@ -292,6 +374,21 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   const long planned = 6L * o.max_effects;
   long batches = 0;
   for (int round = 1; round <= o.max_effects; ++round) {
+    if (refine && (round == 1 || o.mismatch_term)) {
+      // The mismatch at the model this round starts from: one fine and one coarse replay.
+      std::vector<Prediction> pair(o.mismatch_term ? 2 : 1);
+      runInParallel(pair.size(), o.threads,
+                    [&](size_t i) { pair[i] = replayInsertion(i == 0 ? full_setup : setup, rec, current); });
+      r.simulations += static_cast<int>(pair.size());
+      ++r.fine_simulations;
+      if (round == 1) fine_baseline = pair[0];
+      if (o.mismatch_term) {
+        mismatch = mismatchOf(pair[0], pair[1]);
+        r.mismatch_rms_N = 0;
+        for (double d : mismatch.force_N) r.mismatch_rms_N += d * d;
+        if (!mismatch.empty()) r.mismatch_rms_N = std::sqrt(r.mismatch_rms_N / mismatch.force_N.size());
+      }
+    }
     if (round > 1) {
       // Explained to the noise: no model can pay, and the round's replays are saved.
       const double noise = diagnose(rec, model).noise_sd_N;
@@ -317,7 +414,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
           jobs.push_back(p);
           who.push_back({c, v});
         }
-      const std::vector<Prediction> preds = replayAll(setup, rec, jobs, o.threads);
+      const std::vector<Prediction> preds = replayAll(setup, rec, jobs, o.threads, mismatch);
       r.simulations += static_cast<int>(jobs.size());
       if (o.on_progress) o.on_progress(std::min(++batches, planned), planned);
       const size_t first = with_current ? 1 : 0;
@@ -407,12 +504,167 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     setOrganEffect(current, cands[pick], ev[pick].value[cvs[pick].best]);
     model = makeFit(chosen, current, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse);
   }
+  if (refine && fine_baseline.ok) {
+    // Refinement at the data's resolution. The search's leaders (its choice and the round-1
+    // candidates with the largest held-out ratios, o.fine_candidates in all) are searched
+    // again with fine replays - x 1/2, 1, 2 of the search's magnitude, x 4 while the largest is
+    // the best, three bracket halvings, the
+    // parabola's vertex - and weighed against the paper's model at the data's resolution by
+    // the same rule; a second effect of the search, when its first is confirmed, is refined
+    // likewise around its value and weighed again. Every reported figure is from these replays.
+    r.baseline = makeFit({}, OrganParams{}, fine_baseline,
+                         crossValidate(rec, Evaluated{{0.0}, {fine_baseline}}, fold, o.folds).heldout_sse);
+    model = r.baseline;
+    std::vector<std::pair<double, std::string>> lead;  // (search's held-out ratio, effect) of round 1
+    std::map<std::string, double> search_value;
+    for (const CandidateEvidence& e : r.evidence)  // a magnitude of 0: from the grid's second value
+      if (e.round == 1)
+        lead.push_back({e.heldout_ratio, e.effect}), search_value[e.effect] = e.value > 0 ? e.value : grid(e.effect)[1];
+    std::stable_sort(lead.begin(), lead.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    std::vector<std::string> fc;
+    if (!chosen.empty()) fc.push_back(chosen.front());
+    for (const auto& l : lead)
+      if (static_cast<int>(fc.size()) < o.fine_candidates && std::find(fc.begin(), fc.end(), l.second) == fc.end())
+        fc.push_back(l.second);
+    // A 1-D search of each listed effect at the data's resolution on top of `base` (whose
+    // prediction is the magnitude-0 member), starting from the factors around `from`.
+    auto fineSearch = [&](const OrganParams& base, const Prediction& base_pred, const std::vector<std::string>& effs,
+                          const std::vector<double>& from, const std::vector<double>& factors) {
+      std::vector<Evaluated> ev(effs.size(), Evaluated{{0.0}, {base_pred}});
+      auto runStage = [&](const std::vector<std::vector<double>>& values) {
+        std::vector<OrganParams> jobs;
+        std::vector<std::pair<size_t, double>> who;
+        for (size_t c = 0; c < effs.size(); ++c)
+          for (double v : values[c]) {
+            OrganParams p = base;
+            setOrganEffect(p, effs[c], v);
+            jobs.push_back(p);
+            who.push_back({c, v});
+          }
+        const std::vector<Prediction> preds = replayAll(full_setup, rec, jobs, o.threads);
+        r.simulations += static_cast<int>(jobs.size());
+        r.fine_simulations += static_cast<int>(jobs.size());
+        for (size_t j = 0; j < jobs.size(); ++j) {
+          ev[who[j].first].value.push_back(who[j].second);
+          ev[who[j].first].pred.push_back(preds[j]);
+        }
+      };
+      std::vector<std::vector<double>> values(effs.size());
+      for (size_t c = 0; c < effs.size(); ++c)
+        for (double f : factors) {
+          const double v = std::min(upperBound(effs[c]), from[c] * f);
+          if (std::find(values[c].begin(), values[c].end(), v) == values[c].end()) values[c].push_back(v);
+        }
+      runStage(values);
+      // The search's magnitude can be far off when the mismatch changes with the effect: while
+      // the best is the largest value tried (below the bound), try 4 times it (up to 3 times).
+      for (int expand = 0; expand < 3; ++expand) {
+        bool any = false;
+        for (size_t c = 0; c < effs.size(); ++c) {
+          values[c].clear();
+          const std::vector<char> all(rec.rows(), 1);
+          size_t best = 0;
+          double best_sse = 1e300, largest = 0;
+          for (size_t i = 0; i < ev[c].value.size(); ++i) {
+            largest = std::max(largest, ev[c].value[i]);
+            if (!ev[c].pred[i].ok) continue;
+            const double sse = score(rec.force_N, ev[c].pred[i].force_N, all).sse;
+            if (sse < best_sse) best_sse = sse, best = i;
+          }
+          const double v = ev[c].value[best];
+          if (v > 0 && v == largest && v < upperBound(effs[c])) values[c].push_back(std::min(upperBound(effs[c]), 4 * v));
+          any = any || !values[c].empty();
+        }
+        if (!any) break;
+        runStage(values);
+      }
+      for (int halving = 0; halving < 3; ++halving) {
+        for (size_t c = 0; c < effs.size(); ++c) values[c] = bracketMidpoints(rec, ev[c], upperBound(effs[c]));
+        runStage(values);
+      }
+      for (size_t c = 0; c < effs.size(); ++c) {
+        values[c].clear();
+        const double v = parabolaVertex(rec, ev[c]);
+        if (v > 0) values[c].push_back(v);
+      }
+      runStage(values);
+      return ev;
+    };
+    // Weighs the searched effects against `current_fit` (round `round`); the chosen index or -1.
+    auto fineWeigh = [&](int round, const InsertionFit& current_fit, const std::vector<std::string>& effs,
+                         const std::vector<Evaluated>& ev, std::vector<CvResult>* cvs) {
+      std::vector<Candidate> scored(effs.size());
+      cvs->assign(effs.size(), CvResult{});
+      for (size_t c = 0; c < effs.size(); ++c) {
+        (*cvs)[c] = crossValidate(rec, ev[c], fold, o.folds);
+        Candidate& e = scored[c];
+        e.effect = effs[c];
+        e.score.effects = current_fit.effects;
+        e.score.effects.push_back(effs[c]);
+        e.score.n_params = current_fit.n_params + 1;
+        scoreFit((*cvs)[c].sse, N, &e.score);
+        e.score.heldout_rmse_N = std::sqrt((*cvs)[c].heldout_sse / N);
+        e.value = ev[c].value[(*cvs)[c].best];
+        e.simulations = static_cast<int>(ev[c].pred.size()) - 1;
+        e.admissible = e.value > 0;
+      }
+      return weighRound(round, current_fit, scored, o, &r.fine_evidence);
+    };
+    std::vector<std::string> fine_chosen;
+    OrganParams fine_current;
+    if (!fc.empty()) {
+      std::vector<double> from;
+      for (const std::string& e : fc) from.push_back(search_value.count(e) ? search_value[e] : organEffectValue(current, e));
+      std::vector<Evaluated> ev = fineSearch(OrganParams{}, fine_baseline, fc, from, {0.5, 1.0, 2.0});
+      std::vector<CvResult> cvs;
+      int pick = fineWeigh(1, model, fc, ev, &cvs);
+      // The leaders leave structure (no pick, or the pick unexplained): the search's ranking
+      // is not to be trusted there (a nonlinear tension effect strains 3 cm elements otherwise
+      // than 1.5 cm ones: the mismatch changes with it), so every other candidate is searched
+      // at the data's resolution too, from its grid's second value, and all are weighed again.
+      const InsertionFit& best_fit = pick >= 0 ? makeFit({fc[pick]}, OrganParams{}, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse) : model;
+      if (isUnexplained(diagnose(rec, best_fit), o)) {
+        std::vector<std::string> rest;
+        std::vector<double> rest_from;
+        for (const std::string& e : organEffectNames())
+          if (std::find(fc.begin(), fc.end(), e) == fc.end()) rest.push_back(e), rest_from.push_back(grid(e)[1]);
+        if (!rest.empty()) {
+          const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from, {0.5, 1.0, 2.0});
+          fc.insert(fc.end(), rest.begin(), rest.end());
+          ev.insert(ev.end(), more.begin(), more.end());
+          r.fine_evidence.clear();
+          r.fine_all_candidates = true;
+          pick = fineWeigh(1, model, fc, ev, &cvs);
+        }
+      }
+      if (pick >= 0) {
+        fine_chosen.push_back(fc[pick]);
+        setOrganEffect(fine_current, fc[pick], ev[pick].value[cvs[pick].best]);
+        model = makeFit(fine_chosen, fine_current, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse);
+        if (chosen.size() > 1 && chosen.front() == fc[pick]) {
+          const std::vector<std::string> second = {chosen[1]};
+          const std::vector<Evaluated> ev2 = fineSearch(fine_current, model.prediction, second,
+                                                        {organEffectValue(current, chosen[1])}, {1 / 1.5, 1.0, 1.5});
+          std::vector<CvResult> cvs2;
+          if (fineWeigh(2, model, second, ev2, &cvs2) == 0) {
+            fine_chosen.push_back(chosen[1]);
+            setOrganEffect(fine_current, chosen[1], ev2[0].value[cvs2[0].best]);
+            model = makeFit(fine_chosen, fine_current, ev2[0].pred[cvs2[0].best], cvs2[0].heldout_sse);
+          }
+        }
+      }
+    }
+    r.search_effects = chosen;
+    chosen = fine_chosen;
+    current = fine_current;
+  }
   r.effects = chosen;
   r.extended = model;
   r.heldout_rmse_ratio = r.baseline.heldout_rmse_N / std::max(r.extended.heldout_rmse_N, 1e-300);
   r.baseline_diagnostics = diagnose(rec, r.baseline);
+  refuteUnconfirmedGain(&r);
   r.extended_diagnostics = diagnose(rec, r.extended);
-  r.unexplained = isUnexplained(r.extended_diagnostics, o);
+  r.unexplained = !r.refuted_effects.empty() || isUnexplained(r.extended_diagnostics, o);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
 
   r.diagnosis = diagnosisText(r, o);
@@ -456,8 +708,18 @@ nlohmann::json organIdentifyJson(const InsertionRecording& rec, const InsertionI
     j["evidence"]["round_not_run"] = {{"round", r.skipped_round}, {"heldout_rmse_N", r.extended.heldout_rmse_N},
                                       {"noise_sd_N", r.skipped_noise_sd_N},
                                       {"reason", "held-out RMSE within min_heldout_rmse_ratio of the white-noise level"}};
+  if (r.data_spacing_m != r.search_spacing_m) {
+    nlohmann::json fine = nlohmann::json::array();
+    for (const CandidateEvidence& e : r.fine_evidence) fine.push_back(candidateJson(e, true));
+    j["evidence"]["refinement"] = {{"search_effects", r.search_effects}, {"candidates", fine},
+                                   {"all_candidates", r.fine_all_candidates},
+                                   {"mismatch_rms_N", r.mismatch_rms_N}, {"data_spacing_m", r.data_spacing_m}};
+  }
+  if (!r.refuted_effects.empty())
+    j["refuted"] = {{"effects", r.refuted_effects}, {"heldout_rmse_ratio", r.refuted_heldout_rmse_ratio}};
   j["timing"] = {{"seconds", r.seconds}, {"simulations", r.simulations}, {"search_spacing_m", r.search_spacing_m},
-                 {"threads", r.threads}};
+                 {"threads", r.threads}, {"data_spacing_m", r.data_spacing_m},
+                 {"fine_simulations", r.fine_simulations}, {"mismatch_rms_N", r.mismatch_rms_N}};
   return j;
 }
 

@@ -27,6 +27,12 @@ struct InsertionFit : ModelScore {
 struct InsertionIdentifyOptions : IdentifyOptions {
   double search_spacing_m = 0.03;     ///< coarser model while searching [m] (0: the parameter file's)
   int threads = 2;                    ///< replays run at once
+  /// Add the fine-versus-coarse mismatch to the search's replays (false: measure what the
+  /// search does without it, tools/organ_trials --no-mismatch).
+  bool mismatch_term = true;
+  /// Effects searched again at the data's resolution: the search's first choice and the
+  /// round-1 candidates with the largest held-out ratios, this many in all.
+  int fine_candidates = 3;
 };
 
 struct InsertionIdentifyResult {
@@ -41,14 +47,34 @@ struct InsertionIdentifyResult {
   double skipped_noise_sd_N = 0;      ///< the white-noise level that decided it [N]
   double seconds = 0;                 ///< wall-clock time of the identification [s]
   double search_spacing_m = 0;
+  /// The data's resolution: the parameter file's spacing, at which the search's choice is
+  /// refined and every reported figure is computed when it differs from the search's [m].
+  double data_spacing_m = 0;
+  std::vector<std::string> search_effects;      ///< what the coarse search chose (before the refinement)
+  std::vector<CandidateEvidence> fine_evidence; ///< the refinement's candidates at the data's resolution
+  bool fine_all_candidates = false;             ///< the leaders left structure: every candidate refined
+  int fine_simulations = 0;           ///< replays at the data's resolution (in `simulations`)
+  double mismatch_rms_N = 0;          ///< RMS fine-minus-coarse force of the last round's start model [N]
+  /// Effects the selection chose whose reported held-out gain is not above 1
+  /// (gainConfirmed): not named; the data are then unexplained. Empty otherwise.
+  std::vector<std::string> refuted_effects;
+  double refuted_heldout_rmse_ratio = 0;  ///< their held-out gain
   int threads = 1;                    ///< replays run at once
   std::string diagnosis;
 };
+
+/// One held-out measure (issue 17): when the reported held-out gain of the named effects is
+/// at or below 1, they become refuted_effects, no effect is named, the extended model is the
+/// baseline and the gain 1. The caller then reports the data unexplained.
+void refuteUnconfirmedGain(InsertionIdentifyResult* r);
 
 /// Motion at row k by the recorded insertion speed (central difference): 0 push (> +2 mm/s),
 /// 1 hold, 2 pull (< -2 mm/s).
 int insertionMotion(const InsertionRecording& rec, size_t k);
 
+/// Identifies with `setup` (the data's resolution: the parameter file's spacing); the
+/// search replays at options.search_spacing_m with the fine-versus-coarse mismatch added, and
+/// the result is refined and reported at the data's resolution.
 InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const ReplaySetup& setup,
                                           const InsertionIdentifyOptions& options = {});
 

@@ -18,6 +18,12 @@ std::vector<std::string> insertionColumns(bool with_tip) {
   return c;
 }
 
+std::vector<std::string> insertionTraceColumns() {
+  std::vector<std::string> c = insertionColumns(true);
+  c.insert(c.end(), {"wall_force_peak_N", "tip_to_caecum_m", "tip_arclength_m", "mesentery_stretch", "loop_turns"});
+  return c;
+}
+
 namespace {
 
 // The column line of a measurement file (the first line that is not a # line), or "".
@@ -54,10 +60,12 @@ std::string measurementExperiment(const std::string& path) {
 InsertionRecording readInsertionRecording(const std::string& path) {
   // With or without the tip columns: the column line decides which spec applies; the
   // generic reader then checks every column name and row exactly.
-  const bool with_tip = columnLine(path).find("tip_x_m") != std::string::npos;
+  const std::string column_line = columnLine(path);
+  const bool with_tip = column_line.find("tip_x_m") != std::string::npos;
+  const bool trace = column_line.find("loop_turns") != std::string::npos;
   MeasurementSpec spec;
   spec.required_keys = {"experiment", "scenario"};
-  spec.columns = insertionColumns(with_tip);
+  spec.columns = trace ? insertionTraceColumns() : insertionColumns(with_tip);
   spec.min_rows = kMinInsertionRows;
   const Measurement m = readMeasurement(path, spec);
   if (m.meta("experiment") != "insertion")
@@ -67,6 +75,10 @@ InsertionRecording readInsertionRecording(const std::string& path) {
   r.metadata = m.metadata;
   r.scenario = m.meta("scenario");
   if (r.scenario.empty()) throw InputError(path + ": header key 'scenario' is empty");
+  if (m.hasMeta("params")) {
+    r.params = m.meta("params");
+    if (r.params.empty()) throw InputError(path + ": header key 'params' is empty");
+  }
   r.has_tip = with_tip;
   const size_t n = m.rows();
   r.time_s = m.column("time_s");
@@ -105,8 +117,9 @@ void writeInsertionRecording(const std::string& path, const InsertionRecording& 
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error(path + ": cannot write the file");
   std::fprintf(f, "%s\n# experiment: insertion\n# scenario: %s\n", kMeasurementFormatLine, r.scenario.c_str());
+  if (!r.params.empty()) std::fprintf(f, "# params: %s\n", r.params.c_str());
   for (const auto& kv : r.metadata)
-    if (kv.first != "experiment" && kv.first != "scenario")
+    if (kv.first != "experiment" && kv.first != "scenario" && kv.first != "params")
       std::fprintf(f, "# %s: %s\n", kv.first.c_str(), kv.second.c_str());
   const std::vector<std::string> cols = insertionColumns(r.has_tip);
   for (size_t c = 0; c < cols.size(); ++c) std::fprintf(f, "%s%s", c ? "," : "", cols[c].c_str());

@@ -1,6 +1,7 @@
 #include "identify/insertion/replay.h"
 
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include "core/input_error.h"
@@ -53,13 +54,25 @@ ReplaySetup makeReplaySetup(const Scenario& scenario, double spacing_m) {
   ReplaySetup s;
   s.scenario = scenario;
   s.dt_s = scenario.dt_s;
-  s.params = loadParameters(scenario.params_path);
-  if (scenario.overrides.patient_position) s.params.colon.patient_position = *scenario.overrides.patient_position;
+  // The parameters `colosim run` simulates the scenario with (its overrides applied); the
+  // wall friction is then each replayed model's own (organParameters).
+  s.params = scenarioParameters(scenario);
   if (spacing_m > 0) {
     s.params.colon.control_point_spacing_m = spacing_m;
     s.params.scope.segment_length_m = spacing_m;
   }
   return s;
+}
+
+Scenario recordingScenario(const InsertionRecording& rec) {
+  Scenario scenario = findScenario(rec.scenario);
+  if (!rec.params.empty()) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(rec.params, ec))
+      throw InputError(rec.file + ": header key 'params': no such parameter file '" + rec.params + "'");
+    useParameterFile(scenario, rec.params);
+  }
+  return scenario;
 }
 
 std::optional<ExtendedLawParams> organLawParams(const Parameters& params, const OrganParams& p) {
@@ -98,34 +111,19 @@ Parameters organParameters(const Parameters& params, const OrganParams& p) {
 }
 
 Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p) {
-  // The law comes with the parameter set (Parameters::tension_law), as in `colosim run`.
-  // The scenario's abdominal pressure is not replayed here: refuse rather than ignore it.
-  if (!setup.scenario.abdominal_pressure.empty())
-    throw InputError(setup.scenario.file + ": abdominal_pressure: not supported by the organ-level replay (identification)");
+  // The simulation `colosim run` builds (WorldSimulation from the scenario and its
+  // parameters, trainer/world_simulation.h), with the extensions of `p` in the parameter set
+  // and the scope threaded to the recording's first input: a recording that `colosim run
+  // --trace` made of the same model replays to the values it wrote. A scripted start's
+  // set-up is part of the recording (colosim run traces it), so it is replayed, not redone.
   WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
   const double dt = setup.dt_s;
-  // The scenario's start state (trainer/start_state.h), the scope threaded to the
-  // recording's first input, or for a scripted start to the script's, whose set-up part
-  // is simulated first (the recording starts where it ends).
   StartSpec start = startSpecOf(setup.scenario);
   start.dt_s = dt;
-  const bool scripted = setup.scenario.start.kind == "scripted";
-  if (!scripted) start.first_input = rec.input.front();
-  // Rows before the first step read the model at rest, before its start state is applied
-  // (as the shipped recordings were made).
-  StartSpec rest;
-  rest.dt_s = dt;
-  WorldSimulation sim(std::move(model), rest, "fcl");
-  Telemetry tel = sim.telemetry();
-  sim.restart(start);
+  start.first_input = rec.input.front();
+  WorldSimulation sim(std::move(model), start, "fcl");
   const WorldState& st = sim.state();
-  if (scripted) {
-    const long steps = std::lround(setup.scenario.start.until_s / dt);
-    for (long k = 1; k <= steps; ++k) {
-      sim.step(scriptedInput(setup.scenario.script, k * dt));
-      tel = sim.telemetry();
-    }
-  }
+  Telemetry tel = sim.telemetry();
 
   Prediction out;
   const size_t n = rec.rows();
@@ -133,6 +131,8 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
   out.torque_Nm.resize(n);
   out.tip_m.resize(n);
   out.loop_turns.resize(n);
+  // Step s (1, 2, ...) ends at s dt and takes the recorded input at its end time: a row of
+  // colosim run --trace holds the step ending at its time and the input commanded in it.
   long step = 0;
   for (size_t k = 0; k < n; ++k) {
     // Steps whose end time reaches the row's time (recording time; 1 ns tolerance).

@@ -48,7 +48,12 @@ struct ReplaySetup {
   Parameters params;
   double dt_s = 1e-3;
 };
-/// Loads the scenario's parameters; spacing_m > 0 replaces the colon's control-point
+/// The scenario a recording names, with the parameter file it names (header key `params`,
+/// as colosim run --params replaces the scenario's: useParameterFile); InputError naming
+/// the recording for a scenario or parameter file that cannot be found.
+Scenario recordingScenario(const InsertionRecording& rec);
+
+/// Loads the scenario's parameters with its overrides (scenarioParameters); spacing_m > 0 replaces the colon's control-point
 /// spacing and the scope's segment length (a coarser model for the search).
 ReplaySetup makeReplaySetup(const Scenario& scenario, double spacing_m = 0);
 
@@ -68,9 +73,11 @@ struct Prediction {
   bool ok = true;                          ///< false when a solve failed or a value is not finite
 };
 
-/// Replays the recorded inputs: the scenario's start state (rest, settled, or its scripted
-/// set-up), then one step of dt per millisecond with the inputs interpolated between rows;
-/// each row takes the telemetry of the first step ending at or after its time.
+/// Replays the recorded inputs through the simulation `colosim run` builds for the scenario
+/// (its start state with the scope threaded to the first row's input; a scripted start's
+/// set-up is part of the recording), then one step of dt at a time, step s taking the input
+/// interpolated at its end time s dt; each row takes the telemetry of the first step ending
+/// at or after its time (row 0 at time 0: the start state).
 Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p);
 
 }  // namespace colosim

@@ -51,6 +51,21 @@ SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, d
   return s;
 }
 
+SyntheticInsertionSpec drawTwoRateInsertion(uint64_t seed, int effect_index, double duration_s) {
+  SyntheticInsertionSpec s = drawSyntheticInsertion(seed, effect_index, duration_s);
+  std::mt19937_64 rng(seed * 104729 + 3);
+  auto U = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  s.two_rate = true;
+  s.start_insertion_m = U(0.40, 0.50);
+  s.slow_push_m = U(0.03, 0.05);
+  s.fast_push_m = U(0.03, 0.05);
+  s.pull_back_m = U(0.02, 0.04);
+  s.rotation_amplitude_rad = U(0.1, 0.3);
+  s.wiggle_hz = U(1.0, 2.0);
+  s.knob_leftright_rad = U(-0.3, 0.3);
+  return s;
+}
+
 InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const SyntheticInsertionSpec& s) {
   std::mt19937_64 rng(s.seed * 7919 + 17);
   std::normal_distribution<double> n01(0.0, 1.0);
@@ -68,6 +83,11 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
     const double d1 = s.push_speed_m_per_s * 0.45 * T;
     double ins;
     if (s.cycles > 0) ins = s.cycle_amplitude_m * (1 - std::cos(2 * M_PI * s.cycles * t / T)) / 2;
+    else if (s.two_rate) {
+      const double x = t / T;  // slow push, hold, quick push, hold, withdrawal
+      ins = s.slow_push_m * std::min(1.0, x / 0.30) + s.fast_push_m * std::clamp((x - 0.45) / 0.10, 0.0, 1.0) -
+            s.pull_back_m * std::clamp((x - 0.75) / 0.25, 0.0, 1.0);
+    }
     else if (s.holds > 0) {
       // Stage i (of `holds`, each T / holds long): i steps done, the next pushed over the ramp.
       const double stage = T / s.holds;
@@ -80,7 +100,9 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
     else if (t < 0.70 * T) ins = d1 - s.pull_back_m * (t - 0.55 * T) / (0.15 * T);
     else ins = d1 - s.pull_back_m + s.push_speed_m_per_s * (t - 0.70 * T);
     in.insertion_m = std::round((s.start_insertion_m + ins) * 1e6) / 1e6;
-    in.rotation_rad = std::round(s.rotation_amplitude_rad * std::sin(2 * M_PI * t / T) * 1e5) / 1e5;
+    const double turns = s.two_rate ? s.wiggle_hz * t : t / T;  // rotation cycles so far
+    in.rotation_rad = std::round(s.rotation_amplitude_rad * std::sin(2 * M_PI * turns) * 1e5) / 1e5;
+    in.knob_leftright_rad = std::round(s.knob_leftright_rad * std::min(1.0, t / (0.3 * T)) * 1e5) / 1e5;
     in.knob_updown_rad = std::round(s.knob_updown_rad * std::min(1.0, t / (0.3 * T)) * 1e5) / 1e5;
     r.input.push_back(in);
   }
@@ -111,6 +133,13 @@ InsertionRecording makeSyntheticInsertion(const ReplaySetup& setup, const Synthe
   if (s.cycles > 0) {
     std::snprintf(buf, sizeof buf, "%d insert / withdraw cycles of %.4g m from %.4g m", s.cycles, s.cycle_amplitude_m,
                   s.start_insertion_m);
+    r.metadata.push_back({"protocol", buf});
+  } else if (s.two_rate) {
+    std::snprintf(buf, sizeof buf,
+                  "two rates from %.4g m: slow push %.4g m, quick push %.4g m, withdrawal %.4g m; rotation %.3g rad at "
+                  "%.3g Hz, left-right knob %.3g rad",
+                  s.start_insertion_m, s.slow_push_m, s.fast_push_m, s.pull_back_m, s.rotation_amplitude_rad,
+                  s.wiggle_hz, s.knob_leftright_rad);
     r.metadata.push_back({"protocol", buf});
   } else if (s.holds > 0) {
     std::snprintf(buf, sizeof buf, "%d push-and-hold stages of %.4g m (pushed over %.3g of each) from %.4g m", s.holds,

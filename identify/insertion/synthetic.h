@@ -33,6 +33,15 @@ struct SyntheticInsertionSpec {
   int holds = 0;
   double hold_step_m = 0.05;        ///< depth pushed at the start of each stage [m]
   double hold_ramp_fraction = 0.2;  ///< part of each stage spent pushing [-]
+  // Or, with two_rate (cycles 0, holds 0): from start_insertion_m a slow push of
+  // slow_push_m over the first 30 % of the time, a hold of 15 %, a quick push of
+  // fast_push_m over 10 %, a hold of 20 %, a withdrawal of pull_back_m over the last 25 %;
+  // the rotation wiggles at wiggle_hz and the left-right knob steers (a protocol the unit
+  // tests do not use: the organ trials', tools/organ_trials).
+  bool two_rate = false;
+  double slow_push_m = 0.04, fast_push_m = 0.04;  ///< [m]
+  double wiggle_hz = 1.5;                         ///< rotation frequency [Hz]
+  double knob_leftright_rad = 0.0;
   double rotation_amplitude_rad = 0.3;
   double knob_updown_rad = 0.3;
   // Sensors.
@@ -50,6 +59,11 @@ struct SyntheticInsertionSpec {
 /// the push-and-hold staircase (its step and start depth drawn likewise, after everything else).
 SyntheticInsertionSpec drawSyntheticInsertion(uint64_t seed, int effect_index, double duration_s, int cycles = 0,
                                               int holds = 0);
+/// The two-rate protocol (SyntheticInsertionSpec::two_rate), drawn after the draws of
+/// drawSyntheticInsertion for the same seed: start 40-50 cm, slow push 3-5 cm, quick push
+/// 3-5 cm, withdrawal 2-4 cm, rotation wiggle 0.1-0.3 rad at 1-2 Hz, left-right knob
+/// -0.3..0.3 rad.
+SyntheticInsertionSpec drawTwoRateInsertion(uint64_t seed, int effect_index, double duration_s);
 
 /// The range the magnitude of an effect is drawn from in tests.
 std::pair<double, double> syntheticRange(const std::string& effect);
