@@ -29,11 +29,12 @@ std::string paperParameters(const test::TempDir& dir) {
 
 // 1.2 s from 40 cm, where a push stretches the sigmoid: a quick push of 6 cm turning and
 // steering up, a hold, a pull of 3 cm steering left. The scenario's overrides (friction and
-// axial rigidity) are those --params drops.
+// axial rigidity) are those --params drops. The parameter file is the paper's model, the base
+// the organ replay starts from (params/default.json adds the patient's colon bending).
 std::string traceScenario(const test::TempDir& dir) {
   return dir.write("trace_scenario.json", R"({
     "format": "colosim-scenario", "version": 1, "name": "trace_replay",
-    "description": "test", "anatomy": "anatomy/adult.json", "params": "params/default.json",
+    "description": "test", "anatomy": "anatomy/adult.json", "params": "params/paper.json",
     "dt_s": 0.001, "duration_s": 1.2, "seed": 1,
     "start": {"kind": "rest"},
     "overrides": {"wall_friction": 0.15, "colon_axial_rigidity_N": 500.0},
