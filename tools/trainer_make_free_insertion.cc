@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   o.pull_max_N = knob("PULL_MAX_N", o.pull_max_N);
   int withdrawals = 0;
   LumenFollowingHooks hooks;
+  hooks.step_to_last_keyframe = true;  // the written script ends at its last keyframe
   hooks.log = [&](const std::string& line) {
     std::printf("%s\n", line.c_str());
     if (line.find(": withdraw (") != std::string::npos) ++withdrawals;

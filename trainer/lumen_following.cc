@@ -134,7 +134,7 @@ long runLumenFollowing(Scenario& sc, WorldSimulation& sim, double from_s, double
     if (hooks.on_decision) hooks.on_decision(t, cur);
     const Keyframe kf = controller.next(sim, t, cur, hooks.log);
     sc.script.push_back(kf);
-    stepUntil(kf.t_s);
+    stepUntil(hooks.step_to_last_keyframe ? kf.t_s : std::min(kf.t_s, end_s));
   }
   sc.duration_s = sc.script.back().t_s;
   return k;

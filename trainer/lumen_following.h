@@ -59,7 +59,7 @@ class LumenFollowing {
 };
 
 /// Replaces the scenario's script from `from_s` on by the controller's keyframes until
-/// end_s, stepping `sim` (built from `scenario`, at time 0) all the way: the keyframes up to
+/// end_s, stepping `sim` (built from `scenario`, at time 0) until end_s: the keyframes up to
 /// from_s are kept and one at from_s added (the script's input there), then the controller
 /// decides every key_dt_s. `on_step` gets every step's telemetry. Returns the number of
 /// steps done; scenario.script holds the keyframes, scenario.duration_s the last one's time.
@@ -70,6 +70,10 @@ struct LumenFollowingHooks {
   std::function<void(double t_s, const HandleInput& current)> on_decision;
   /// The controller's mode changes (LumenFollowing::next's log).
   std::function<void(const std::string&)> log;
+  /// The last keyframe may lie up to key_dt_s after end_s: false stops the simulation at
+  /// end_s, true steps on to that keyframe (trainer_make_free_insertion, whose script ends
+  /// there).
+  bool step_to_last_keyframe = false;
 };
 long runLumenFollowing(Scenario& scenario, WorldSimulation& sim, double from_s, double end_s,
                        const LumenFollowingOptions& options, const LumenFollowingHooks& hooks = {});

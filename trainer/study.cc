@@ -530,6 +530,7 @@ std::string writeShard(const Study& study, int k, int n, const std::vector<Study
   fs::create_directories(dir, ec);
   if (!fs::is_directory(dir)) throw InputError(dir + ": cannot create the folder");
   const std::string path = (fs::path(dir) / shardName(k, n)).string();
+  if (fs::exists(path, ec)) throw InputError(path + ": exists (a shard is never overwritten)");
   nlohmann::ordered_json j;
   j["format"] = "colosim-study-shard";
   j["version"] = 1;
