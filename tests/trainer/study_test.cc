@@ -91,6 +91,18 @@ TEST(StudyFile, BadKeysAndValuesNameFileKeyAndLine) {
   EXPECT_NE(errorOf(text).find("s.json:7:"), std::string::npos) << errorOf(text);
 }
 
+TEST(StudyFile, ShippedStudiesRead) {
+  int read = 0;
+  for (const auto& e : std::filesystem::directory_iterator(test::asset("studies"))) {
+    if (e.path().extension() != ".json") continue;
+    const Study s = loadStudy(e.path().string());
+    EXPECT_EQ(s.name, e.path().stem().string());
+    EXPECT_FALSE(studyCases(s).empty());
+    ++read;
+  }
+  EXPECT_GE(read, 1);
+}
+
 TEST(StudySeeds, SeedZeroIsTheScenarioAsShippedAndOthersVaryWithinTheirRanges) {
   const SeedVariant zero = seedVariant(0);
   EXPECT_EQ(zero.operator_speed, 1.0);
