@@ -127,7 +127,7 @@ long runLumenFollowing(Scenario& sc, WorldSimulation& sim, double from_s, double
       if (hooks.on_step) hooks.on_step(sim);
     }
   };
-  stepUntil(from_s);
+  stepUntil(std::min(from_s, end_s));
   LumenFollowing controller(sim, options);
   for (double t = from_s; t < end_s - 1e-9; t += options.key_dt_s) {
     const HandleInput cur = sc.script.back().input;

@@ -843,8 +843,10 @@ std::vector<std::string> writeStudyReport(const Study& study, const std::vector<
     return lines;
   }
   for (const std::string& gp : gp_files) {
-    const std::string cmd = "cd '" + dir + "' && gnuplot " + gp + " 2>&1";
-    if (std::system(cmd.c_str()) != 0) lines.push_back("gnuplot failed on " + gp);
+    // gnuplot's messages go to the report's gnuplot.log, never to stdout (--json).
+    const std::string cmd = "cd '" + dir + "' && gnuplot " + gp + (gp == gp_files.front() ? " >" : " >>") +
+                            " gnuplot.log 2>&1";
+    if (std::system(cmd.c_str()) != 0) lines.push_back("gnuplot failed on " + gp + " (see gnuplot.log)");
   }
   lines.push_back("PNGs drawn by gnuplot in " + dir);
   return lines;
