@@ -57,8 +57,10 @@ Keyframe LumenFollowing::next(const WorldSimulation& sim, double t, const Handle
     const double lateral = std::hypot(u.x(), u.y());
     if (lateral > 1e-9) {
       const double theta = std::atan2(lateral, u.z());
-      const double up = std::clamp(theta * u.y() / lateral, -kKnobUpDownMax_rad, kKnobUpDownMax_rad);
-      const double lr = std::clamp(-theta * u.x() / lateral, -kKnobLeftRightMax_rad, kKnobLeftRightMax_rad);
+      // Within the design's knob stops.
+      const double ud_max = sm.params.knob_updown_max_rad, lr_max = sm.params.knob_leftright_max_rad;
+      const double up = std::clamp(theta * u.y() / lateral, -ud_max, ud_max);
+      const double lr = std::clamp(-theta * u.x() / lateral, -lr_max, lr_max);
       const double dk = o_.max_knob_change_rad;
       next.knob_updown_rad = round4(cur.knob_updown_rad + std::clamp(up - cur.knob_updown_rad, -dk, dk));
       next.knob_leftright_rad = round4(cur.knob_leftright_rad + std::clamp(lr - cur.knob_leftright_rad, -dk, dk));

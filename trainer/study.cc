@@ -209,7 +209,11 @@ std::optional<Parameters> caseParameters(const Study& study, const StudyCase& c,
   const int seed = study.seeds[c.seed];
   if (seed == 0 && !d.shaft_bending_stiffness_Nm2) return std::nullopt;
   Parameters p = scenarioParameters(sc);
-  if (d.shaft_bending_stiffness_Nm2) p.scope.bending_stiffness_Nm2 = *d.shaft_bending_stiffness_Nm2;
+  if (d.shaft_bending_stiffness_Nm2) {  // uniform along the length, replacing the design's profile's EI
+    p.scope.bending_stiffness_Nm2 = *d.shaft_bending_stiffness_Nm2;
+    for (StiffnessSection& section : p.scope.stiffness_profile)
+      section.bending_stiffness_Nm2 = *d.shaft_bending_stiffness_Nm2;
+  }
   const SeedVariant v = seedVariant(seed);
   for (auto& [name, m] : p.colon.mesentery) m.stiffness_N_per_m2 *= v.lifter_stiffness;
   p.contact.friction_coefficient *= v.wall_friction;
@@ -227,6 +231,8 @@ double caseEnd_s(const Study& study, const StudyCase& c, const Scenario& sc) {
 
 Scenario caseScenario(const Study& study, const StudyCase& c) {
   Scenario sc = findScenario(study.scenarios[c.scenario]);
+  const StudyDesign& design = study.designs[c.design];
+  if (!design.scope_path.empty()) useScopeDesign(sc, design.scope_path);
   const SeedVariant v = seedVariant(study.seeds[c.seed]);
   if (v.operator_speed != 1.0) {
     // The operator's pace: the script after the scored start runs operator_speed times

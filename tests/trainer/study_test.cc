@@ -19,7 +19,8 @@ std::string tinyStudyText(double duration_s = 2.6, const std::string& name = "ti
   return R"({
   "format": "colosim-study", "version": 1, "name": ")" + name + R"(",
   "description": "test study",
-  "designs": [{"name": "standard"}, {"name": "stiff", "shaft_bending_stiffness_Nm2": 0.06}],
+  "designs": [{"name": "standard", "scope": "scopes/standard.json"},
+              {"name": "stiff", "scope": "scopes/standard.json", "shaft_bending_stiffness_Nm2": 0.06}],
   "scenarios": ["sigmoid_push"],
   "strategies": ["scripted", {"kind": "lumen_following", "end_s": 30}],
   "seeds": [0, 1],
@@ -48,6 +49,7 @@ TEST(StudyFile, ReadsTheTinyStudyInCanonicalOrder) {
   EXPECT_EQ(s.name, "tiny");
   ASSERT_EQ(s.designs.size(), 2u);
   EXPECT_FALSE(s.designs[0].shaft_bending_stiffness_Nm2);
+  EXPECT_EQ(s.designs[0].scope, "scopes/standard.json");
   EXPECT_EQ(*s.designs[1].shaft_bending_stiffness_Nm2, 0.06);
   ASSERT_EQ(s.strategies.size(), 2u);
   EXPECT_EQ(s.strategies[1].kind, "lumen_following");
@@ -76,7 +78,7 @@ TEST(StudyFile, BadKeysAndValuesNameFileKeyAndLine) {
       {", \"end_s\": 30", "", "strategies[1].end_s"},
       {"colosim-study", "colosim-scenario", "format"},
       {"\"duration_s\": ", "\"duration_s\": -", "duration_s"},
-      {"{\"name\": \"standard\"}", "{\"name\": \"standard\", \"scope\": \"scopes/none.json\"}", "designs[0].scope"},
+      {"scopes/standard.json", "scopes/none.json", "designs[0].scope"},
   };
   for (const Bad& b : bad) {
     std::string text = tinyStudyText();
@@ -88,7 +90,7 @@ TEST(StudyFile, BadKeysAndValuesNameFileKeyAndLine) {
   // The line of a bad value is named.
   std::string text = tinyStudyText();
   replace(text, "\"seeds\": [0, 1]", "\"seeds\": [0, 1.5]");
-  EXPECT_NE(errorOf(text).find("s.json:7:"), std::string::npos) << errorOf(text);
+  EXPECT_NE(errorOf(text).find("s.json:8:"), std::string::npos) << errorOf(text);
 }
 
 TEST(StudyFile, ShippedStudiesRead) {
