@@ -17,5 +17,6 @@ void addScoreCommand(CLI::App& app, Action& action);
 void addReplayCommand(CLI::App& app, Action& action);
 void addIdentifyCommand(CLI::App& app, Action& action);
 void addTrainCommand(CLI::App& app, Action& action);
+void addStudyCommand(CLI::App& app, Action& action);
 
 }  // namespace colosim::app

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   colosim::app::addReplayCommand(app, action);
   colosim::app::addIdentifyCommand(app, action);
   colosim::app::addTrainCommand(app, action);
+  colosim::app::addStudyCommand(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

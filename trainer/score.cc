@@ -29,6 +29,8 @@ void PhaseScore::add(const Telemetry& t, double dt_s, const Telemetry* prev) {
   // Wall pressure: an episode is a run above the threshold lasting longer than
   // episode_min_s, counted once when it gets that long.
   peak_wall_force_N = std::max(peak_wall_force_N, t.wall_force_peak_N);
+  peak_wall_force_total_N = std::max(peak_wall_force_total_N, t.wall_force_total_N);
+  wall_force_integral_Ns += t.wall_force_total_N * dt_s;
   if (t.wall_force_peak_N > o_.excessive_wall_force_N) {
     excessive_pressure_time_s += dt_s;
     episode_s_ += dt_s;
@@ -66,6 +68,10 @@ void PhaseScore::add(const Telemetry& t, double dt_s, const Telemetry* prev) {
   if (prev) {
     tip_path_m += (t.tip_position_m - prev->tip_position_m).norm();
     insertion_path_m += std::abs(t.input.insertion_m - prev->input.insertion_m);
+    const double pushed_m = t.inserted_m - prev->inserted_m;
+    if (pushed_m > 0)
+      shaft_movement_without_tip_progress_m +=
+          std::max(0.0, pushed_m - std::max(0.0, t.tip_arclength_m - prev->tip_arclength_m));
     rotation_path_rad += std::abs(t.input.rotation_rad - prev->input.rotation_rad);
     knob_path_rad += std::abs(t.input.knob_updown_rad - prev->input.knob_updown_rad) +
                      std::abs(t.input.knob_leftright_rad - prev->input.knob_leftright_rad);
@@ -90,6 +96,9 @@ nlohmann::json PhaseScore::json() const {
   j["handle_torque_integral_Nms"] = handle_torque_integral_Nms;
   j["high_force_time_pct"] = pct(high_force_time_s, duration_s);
   j["peak_wall_force_N"] = peak_wall_force_N;
+  j["peak_wall_force_total_N"] = peak_wall_force_total_N;
+  j["wall_force_integral_Ns"] = wall_force_integral_Ns;
+  j["shaft_movement_without_tip_progress_m"] = shaft_movement_without_tip_progress_m;
   j["excessive_pressure_episodes"] = excessive_pressure_episodes;
   j["excessive_pressure_time_s"] = excessive_pressure_time_s;
   j["discomfort_index"] = discomfort_index_s;
@@ -187,7 +196,9 @@ const std::map<std::string, std::string>& Scorer::units() {
       {"peak_handle_force_N", "N"}, {"peak_push_N", "N"}, {"peak_pull_N", "N"},
       {"peak_handle_torque_Nm", "N m"}, {"handle_force_integral_Ns", "N s"},
       {"handle_torque_integral_Nms", "N m s"}, {"high_force_time_pct", "%"},
-      {"peak_wall_force_N", "N"}, {"excessive_pressure_episodes", "1"},
+      {"peak_wall_force_N", "N (one scope segment)"}, {"peak_wall_force_total_N", "N (whole scope)"},
+      {"wall_force_integral_Ns", "N s"}, {"shaft_movement_without_tip_progress_m", "m"},
+      {"excessive_pressure_episodes", "1"},
       {"excessive_pressure_time_s", "s"},
       {"discomfort_index", "s (time integral of mesentery stretch above the threshold)"},
       {"discomfort_time_pct", "%"}, {"peak_mesentery_stretch", "- (lifter load / colon weight)"},

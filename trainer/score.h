@@ -58,7 +58,13 @@ class PhaseScore {
   double handle_force_integral_Ns = 0;  ///< integral of |handle force| dt [N s]
   double handle_torque_integral_Nms = 0;///< integral of |handle torque| dt [N m s]
   double high_force_time_s = 0;       ///< time with |handle force| > high_handle_force_N [s]
-  double peak_wall_force_N = 0;       ///< largest wall contact force [N]
+  double peak_wall_force_N = 0;       ///< largest wall contact force of one scope segment [N]
+  double peak_wall_force_total_N = 0; ///< largest total wall contact force of the whole scope [N]
+  double wall_force_integral_Ns = 0;  ///< integral of the total wall contact force dt [N s]
+  /// Shaft pushed in that the tip did not follow [m]: the sum over steps of
+  /// max(0, d inserted - max(0, d tip arclength)) over the steps that push in
+  /// (Telemetry::inserted_m, tip_arclength_m; docs/design-studies.md).
+  double shaft_movement_without_tip_progress_m = 0;
   int excessive_pressure_episodes = 0;
   double excessive_pressure_time_s = 0;  ///< time above the wall force threshold [s]
   double discomfort_index_s = 0;      ///< integral of max(0, stretch - threshold) dt [s]

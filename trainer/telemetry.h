@@ -18,6 +18,7 @@ struct Telemetry {
   double handle_force_N = 0.0;    ///< axial force the hand applies to the scope, + = push [N]
   double handle_torque_Nm = 0.0;  ///< axial torque the hand applies, + = clockwise seen by the operator [N m]
   double wall_force_peak_N = 0.0; ///< largest single scope-wall contact force this step [N]
+  double wall_force_total_N = 0.0;///< sum of the magnitudes of all scope-wall contact forces this step [N]
   Vec3 tip_position_m = Vec3::Zero();  ///< scope tip in the patient frame [m]
   double tip_to_caecum_m = 1e9;   ///< distance from the tip to the caecal pole [m]
   /// How far along the colon the tip is [m]: the rest arclength from the anus of the colon

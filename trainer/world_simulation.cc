@@ -286,14 +286,16 @@ void WorldSimulation::measure() {
   t.lumen_exit = lumen.lumen_exit;
   // Peak wall force: the largest force one scope segment (1.5 cm) puts on the wall.
   {
-    double seg_force = 0, peak = 0;
+    double seg_force = 0, peak = 0, total = 0;
     int seg = -1;
     for (const WallContact& c : s.wall) {
       if (c.scope_segment != seg) seg = c.scope_segment, seg_force = 0;
       seg_force += c.force_N;
+      total += c.force_N;
       peak = std::max(peak, seg_force);
     }
     t.wall_force_peak_N = peak;
+    t.wall_force_total_N = total;  // the whole scope's load on the wall (design studies)
   }
   const Vec3 tip = tipPosition(scope, s.scope);
   t.tip_position_m = tip;
