@@ -1,4 +1,4 @@
-// colosim study STUDY.json [--json] [--report DIR] [--threads N] [--shard K/N --out DIR]
+// colosim study STUDY.json [--json] [--report DIR] [--threads N] [--shard K/N --out DIR] [--check]
 // colosim study --merge DIR... [--json]
 // Design studies: every case of the study (designs x scenarios x strategies x seeds) run
 // headless, summarised per design with the paired comparison against the first design.
@@ -27,6 +27,7 @@ struct StudyOptions {
   std::string shard;
   std::string out;
   std::vector<std::string> merge;
+  bool check = false;
 };
 
 int runStudy(const StudyOptions& o) {
@@ -43,6 +44,12 @@ int runStudy(const StudyOptions& o) {
   // Every input is read and checked before any work or output.
   const Study study = loadStudy(o.study);
   std::vector<StudyCase> cases = studyCases(study);
+  if (o.check) {
+    std::printf("study %s: %zu cases (%zu designs x %zu scenarios x %zu strategies x %zu seeds)\n", study.name.c_str(),
+                cases.size(), study.designs.size(), study.scenarios.size(), study.strategies.size(),
+                study.seeds.size());
+    return 0;
+  }
   int k = 0, n = 0;
   if (!o.shard.empty() || !o.out.empty()) {
     if (o.shard.empty() || o.out.empty()) throw InputError("--shard K/N and --out DIR go together");
@@ -99,6 +106,8 @@ void addStudyCommand(CLI::App& app, Action& action) {
   cmd->add_option("--out", o->out, "folder the shard's results are written to (shard-K-of-N.json)");
   cmd->add_option("--merge", o->merge, "merge the shard results in these folders (instead of running a study)")
       ->expected(1, -1);
+  cmd->add_flag("--check", o->check, "read and check the study file (its scenarios and scope designs too), print its "
+                                     "case count and run nothing (scripts/study-slurm does before submitting)");
   cmd->callback([&action, o] { action = [o]() -> int { return runStudy(*o); }; });
 }
 
