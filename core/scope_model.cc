@@ -1,5 +1,6 @@
 #include "core/scope_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -29,6 +30,17 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
   m.joint_stiffness_Nm_per_rad = Vec3(p.bending_stiffness_Nm2 / m.h_m, p.bending_stiffness_Nm2 / m.h_m,
                                       p.torsional_stiffness_Nm2 / m.h_m);
   m.bending_joints = std::max(1, static_cast<int>(std::lround(p.bending_section_length_m / m.h_m)));
+  if (p.active.enabled) {
+    const ActiveScopeParams& a = p.active;
+    if (!(a.joint_torque_limit_Nm > 0) || !(a.time_constant_s > 0) || !(a.actuated_length_m >= 0) ||
+        !std::isfinite(a.actuated_length_m) || !(a.contact_gain >= 0) || a.contact_neighbours < 0 ||
+        !(a.contact_relax_s > 0))
+      throw std::invalid_argument("scope: active joints need a positive torque limit and time constant");
+    // Joint k (at (k+1) h from the tip) is actuated when it lies within the actuated length.
+    m.actuated_joints = std::min(m.segment_count - 1, static_cast<int>(std::floor(a.actuated_length_m / m.h_m + 1e-9)));
+    m.first_actuated_joint = a.strategy == ActiveStrategy::kFollowTheLeader ? 1 : m.bending_joints;
+    m.actuated_joints = std::max(m.actuated_joints, m.first_actuated_joint);
+  }
   m.p_W_anus = p_W_anus;
   const Vec3 d3 = entry.normalized();
   Vec3 d2 = up_hint - up_hint.dot(d3) * d3;
