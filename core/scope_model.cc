@@ -41,6 +41,17 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
     m.first_actuated_joint = a.strategy == ActiveStrategy::kFollowTheLeader ? 1 : m.bending_joints;
     m.actuated_joints = std::max(m.actuated_joints, m.first_actuated_joint);
   }
+  const VariableStiffnessParams& v = p.variable_stiffness;
+  if (!v.levels.empty()) {
+    bool positive = true;
+    for (double x : v.levels) positive = positive && x > 0 && std::isfinite(x);
+    if (!positive || static_cast<int>(v.levels.size()) > kStiffnessLevelsMax || !(v.from_m >= 0) ||
+        !(v.to_m > v.from_m) || v.default_level < 0 || v.default_level >= static_cast<int>(v.levels.size()))
+      throw std::invalid_argument("scope: a variable-stiffness section needs from < to, positive levels and a default among them");
+    // Joint k lies at (k+1) h from the tip.
+    m.variable_first_joint = std::max(0, static_cast<int>(std::ceil(v.from_m / m.h_m - 1e-9)) - 1);
+    m.variable_end_joint = std::min(m.segment_count - 1, static_cast<int>(std::floor(v.to_m / m.h_m + 1e-9)));
+  }
   m.p_W_anus = p_W_anus;
   const Vec3 d3 = entry.normalized();
   Vec3 d2 = up_hint - up_hint.dot(d3) * d3;

@@ -16,6 +16,7 @@
 
 #include <vector>
 
+#include "core/handle_input.h"
 #include "core/spline.h"
 
 namespace colosim {
@@ -45,6 +46,18 @@ struct ActiveScopeParams {
   /// this time constant [s].
   double contact_relax_s = 1.0;
   int contact_neighbours = 2;  ///< contact_minimising: segments each side of a joint whose contacts it sees
+};
+
+/// A variable-stiffness section (issue 20; Olympus ScopeGuide / Innovex variable-stiffness
+/// colonoscopes): the operator switches the bending stiffness EI of the joints within
+/// [from_m, to_m] of arclength from the tip between levels, each a multiplier of the
+/// section's own EI (stiffness profile); HandleInput::stiffness_level picks the level
+/// (-1: default_level). GJ is not changed. Off: levels empty.
+struct VariableStiffnessParams {
+  double from_m = 0.0;               ///< start of the section, arclength from the tip [m]
+  double to_m = 0.0;                 ///< end of the section, arclength from the tip [m]
+  std::vector<double> levels;        ///< EI multipliers per level [-], > 0; empty: no section
+  int default_level = 0;             ///< the level when the input names none
 };
 
 struct ScopeParams {
@@ -82,6 +95,7 @@ struct ScopeParams {
   double grip_catch_up_m_per_s = 0.05;    ///< [m/s]
   double grip_catch_up_rad_per_s = 3.14159265358979323846;  ///< [rad/s]
   ActiveScopeParams active;               ///< actuated joints (off by default: a passive scope)
+  VariableStiffnessParams variable_stiffness;  ///< operator-switched EI (off by default: levels empty)
 };
 
 struct ScopeModel {
@@ -100,6 +114,10 @@ struct ScopeModel {
   /// actuated_joints is 0 when the scope is passive.
   int first_actuated_joint = 0;
   int actuated_joints = 0;
+  /// Joints variable_first_joint .. variable_end_joint-1 lie in the variable-stiffness
+  /// section (none when the scope has none) [-].
+  int variable_first_joint = 0;
+  int variable_end_joint = 0;
   Vec3 p_W_anus = Vec3::Zero();   ///< the anus: fixed entry point [m]
   Mat3 R_W_entry = Mat3::Identity();  ///< scope frame at the anus at zero rotation (d3 = entry direction)
   Vec3 gravity_m_per_s2 = Vec3::Zero();

@@ -20,6 +20,7 @@ ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
   s.system.resize(K);
   s.rhs = Eigen::VectorXd::Zero(6 * K);
   s.force = Eigen::VectorXd::Zero(6 * K);
+  s.has_stiffness_levels = !m.params.variable_stiffness.levels.empty();
   if (m.params.active.enabled) {
     s.joint_rest_rad.assign(K, Vec3::Zero());
     s.lead_bend_rad.assign(K, Vec3::Zero());
@@ -54,8 +55,9 @@ constexpr size_t kSnapshotHeader = 12;  // time, inside, tilted segment, tilt (3
 // The active scope's part of the snapshot, after the segments (none when it is off, so a
 // passive scope's snapshot and hash are as before): lead count, then per joint its rest
 // rotation and the lead's bend (6 values each).
+// Then, on a scope with a variable-stiffness section, the stiffness level of the input.
 size_t activeSnapshotSize(const ScopeState& s) {
-  return s.joint_rest_rad.empty() ? 0 : 1 + 6 * s.joint_rest_rad.size();
+  return (s.joint_rest_rad.empty() ? 0 : 1 + 6 * s.joint_rest_rad.size()) + (s.has_stiffness_levels ? 1 : 0);
 }
 
 }  // namespace
@@ -89,6 +91,7 @@ std::vector<double> getScopeState(const ScopeState& s) {
     for (size_t k = 0; k < s.joint_rest_rad.size(); ++k)
       for (const Vec3* v : {&s.joint_rest_rad[k], &s.lead_bend_rad[k]}) out.insert(out.end(), v->data(), v->data() + 3);
   }
+  if (s.has_stiffness_levels) out.push_back(s.input.stiffness_level);
   return out;
 }
 
@@ -123,6 +126,7 @@ void setScopeState(const std::vector<double>& snap, ScopeState& s) {
         i += 3;
       }
   }
+  if (s.has_stiffness_levels) s.input.stiffness_level = static_cast<int>(snap[i++]);
 }
 
 }  // namespace colosim

@@ -52,6 +52,9 @@ struct ScopeState {
   double asked_handle_force_N = 0;   ///< handle force the commanded motion asked for in the last step [N]
   double asked_handle_torque_Nm = 0; ///< handle torque the commanded motion asked for in the last step [N m]
 
+  /// The scope has a variable-stiffness section: the snapshot then holds input.stiffness_level.
+  bool has_stiffness_levels = false;
+
   // The active scope (ScopeParams::active; core/active_scope.h). Empty when it is off.
   /// Commanded rest rotation of each joint (K, joint k between segments k and k+1) in the
   /// joint frame, the actuators' output; only the actuated joints' entries are used [rad].

@@ -44,7 +44,10 @@ JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const Han
   const Vec3 err = omega - jointRestRotation(m, s, k, in);
   const Mat3 A = rightJacobianInverse(omega) * s.R_WS[k].transpose();
   const Vec3 rel_rate = A * (s.w_W[k] - s.w_W[k + 1]);
-  const Vec3& kd = m.joint_stiffness_Nm_per_rad;
+  Vec3 kd = m.joint_stiffness_Nm_per_rad;
+  const double ei_factor = bendingStiffnessFactor(m, k, in);  // the variable-stiffness level (1 elsewhere)
+  kd.x() *= ei_factor;
+  kd.y() *= ei_factor;
   const Vec3 moment = kd.cwiseProduct(err + m.params.joint_damping_s * rel_rate);  // joint frame
   const Vec3 tau = A.transpose() * moment;  // world torque on the distal segment is -tau
 

@@ -55,6 +55,7 @@ HandleInput integrateHandle(const HandleInput& prev, const HandleRates& rates, d
   in.knob_updown_rad = std::clamp(in.knob_updown_rad, -limits.knob_updown_max_rad, limits.knob_updown_max_rad);
   in.knob_leftright_rad =
       std::clamp(in.knob_leftright_rad, -limits.knob_leftright_max_rad, limits.knob_leftright_max_rad);
+  in.stiffness_level = prev.stiffness_level;  // held: a press of the stiffness key changes it (nextStiffnessLevel)
   return in;
 }
 
