@@ -41,7 +41,7 @@ struct ActiveScopeParams {
   double actuated_length_m = 0.6;      ///< joints within this arclength from the tip are actuated [m]
   /// contact_minimising: the agent's yield rate: its rest moves at gain M / ((EI/h) tau)
   /// for a contact moment M on its neighbourhood [-] (the actuator's lag integrates it).
-  double contact_gain = 5.0;
+  double contact_gain = 1.0;
   /// contact_minimising: without contact the rest relaxes back to straight (passive) with
   /// this time constant [s].
   double contact_relax_s = 1.0;
