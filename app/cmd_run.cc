@@ -31,6 +31,7 @@ struct RunOptions {
   double dt_s = 1e-3;       // settle only [s]
   std::string params;       // settle only
   std::string anatomy;      // settle only
+  std::string scope;        // scope design file (scenarios only); empty: the scenario's
   std::string tension_law;  // law file (colosim identify --law-out); empty: the parameters' Voigt law
   std::string record;
   std::string frames;
@@ -70,6 +71,7 @@ void writeTraceRow(std::FILE* f, const Telemetry& t) {
 }
 
 int runSettle(const RunOptions& o) {
+  if (!o.scope.empty()) throw InputError("--scope: the settle run simulates the colon alone, without a scope");
   const Parameters params = loadParameters(o.params.empty() ? assetPath("params/default.json") : o.params);
   std::shared_ptr<const TensionLaw> law;
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
@@ -107,6 +109,7 @@ int runScripted(const RunOptions& o) {
   // wall_friction override gives way to the file's friction_coefficient.
   std::optional<double> dropped_friction;
   if (!o.params.empty()) dropped_friction = useParameterFile(scenario, o.params);
+  if (!o.scope.empty()) useScopeDesign(scenario, o.scope);
   const SizePx size = parseSize(o.size, 16);
   std::shared_ptr<const TensionLaw> law;
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
@@ -234,6 +237,8 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("--params", o->params, "parameter file (for a scenario: replaces the one it names and its wall_friction "
                   "override, e.g. written by colosim identify --law-out on a recorded insertion: friction, colon bending, "
                   "lifter stiffening and tension law)");
+  cmd->add_option("--scope", o->scope, "scope design file (assets/scopes/*.json) in place of the one the scenario "
+                  "names; sessions record it");
   cmd->add_option("--anatomy", o->anatomy, "anatomy file (settle only; scenarios name their own)");
   cmd->callback([&action, o] {
     action = [o]() -> int { return o->scenario == "settle" ? runSettle(*o) : runScripted(*o); };

@@ -240,7 +240,6 @@ std::string peerXml(const WorldModel& m, const WorldState& s, int chain, double 
   // entry axis, on a slide (insertion, qpos = the insertion depth) and a hinge (rotation)
   // about it; each further body hangs h beyond its parent's origin on three hinges.
   const double beta = sm.params.joint_damping_s;
-  const Vec3& kj = sm.joint_stiffness_Nm_per_rad;
   const Vec3& I = sm.segment_inertia_kgm2;
   auto segmentBody = [&](int i) {
     xml << "<inertial pos=\"0 0 " << fmt(0.5 * h) << "\" mass=\"" << fmt(sm.segment_mass_kg) << "\" diaginertia=\""
@@ -257,6 +256,8 @@ std::string peerXml(const WorldModel& m, const WorldState& s, int chain, double 
   for (int i = 1; i < chain; ++i) {
     xml << "<body name=\"seg" << i << "\" pos=\"0 0 " << fmt(h) << "\">";
     const char* axes[3] = {"1 0 0", "0 1 0", "0 0 1"};
+    // Body i joins body i - 1 as colosim's joint between segments chain - 1 - i and chain - i.
+    const Vec3& kj = sm.joint_stiffness_Nm_per_rad[chain - 1 - i];
     for (int a = 0; a < 3; ++a)
       xml << "<joint type=\"hinge\" axis=\"" << axes[a] << "\" armature=\"" << fmt(kElasticArmature_kgm2)
           << "\" stiffness=\"" << fmt(kj[a]) << "\" damping=\""

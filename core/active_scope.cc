@@ -10,7 +10,7 @@ namespace colosim {
 namespace {
 
 // The bending stiffness K_b = EI/h of joint k [N m/rad].
-double bendingStiffness(const ScopeModel& m, int /*k*/) { return m.joint_stiffness_Nm_per_rad.x(); }
+double bendingStiffness(const ScopeModel& m, int k) { return m.joint_stiffness_Nm_per_rad[k].x(); }
 
 // The smallest world rotation taking unit axis a to unit axis b [rad].
 Vec3 rotationBetween(const Vec3& a, const Vec3& b) {

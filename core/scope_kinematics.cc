@@ -28,9 +28,9 @@ HandleInput clampHandleInput(const ScopeModel& m, const HandleInput& in) {
   const double max_insertion = (m.segment_count - 1) * m.h_m;
   c.insertion_m = std::clamp(finite(in.insertion_m), 0.0, max_insertion);
   c.rotation_rad = finite(in.rotation_rad);
-  c.knob_updown_rad = std::clamp(finite(in.knob_updown_rad), -kKnobUpDownMax_rad, kKnobUpDownMax_rad);
+  c.knob_updown_rad = std::clamp(finite(in.knob_updown_rad), -m.params.knob_updown_max_rad, m.params.knob_updown_max_rad);
   c.knob_leftright_rad =
-      std::clamp(finite(in.knob_leftright_rad), -kKnobLeftRightMax_rad, kKnobLeftRightMax_rad);
+      std::clamp(finite(in.knob_leftright_rad), -m.params.knob_leftright_max_rad, m.params.knob_leftright_max_rad);
   c.stiffness_level = std::clamp(in.stiffness_level, -1, kStiffnessLevelsMax - 1);
   return c;
 }

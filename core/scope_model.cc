@@ -13,6 +13,16 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
   if (!(p.outer_diameter_m > 0) || !(p.mass_per_length_kg_per_m > 0) || !(p.bending_stiffness_Nm2 > 0) ||
       !(p.torsional_stiffness_Nm2 > 0) || !(p.joint_stiffness_N_per_m > 0))
     throw std::invalid_argument("scope: diameter, mass, stiffnesses must be positive");
+  double previous_end_m = 0.0;
+  for (const StiffnessSection& section : p.stiffness_profile) {
+    if (!(section.to_m > previous_end_m) || !(section.bending_stiffness_Nm2 > 0) ||
+        !(section.torsional_stiffness_Nm2 > 0))
+      throw std::invalid_argument("scope: stiffness sections must follow each other with positive EI and GJ");
+    previous_end_m = section.to_m;
+  }
+  if (!(p.knob_updown_max_rad >= 0 && p.knob_updown_max_rad <= kKnobUpDownMax_rad) ||
+      !(p.knob_leftright_max_rad >= 0 && p.knob_leftright_max_rad <= kKnobLeftRightMax_rad))
+    throw std::invalid_argument("scope: knob stops beyond the handle's range");
   if (p.slices_per_segment < 1 || p.points_per_slice < 1)
     throw std::invalid_argument("scope: at least one slice of one interaction point");
   if (!(entry.norm() > 0)) throw std::invalid_argument("scope: entry direction is zero");
@@ -27,8 +37,17 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
   const double r2 = m.radius_m * m.radius_m;
   const double i_perp = m.segment_mass_kg * (3 * r2 + m.h_m * m.h_m) / 12.0;
   m.segment_inertia_kgm2 = Vec3(i_perp, i_perp, 0.5 * m.segment_mass_kg * r2);
-  m.joint_stiffness_Nm_per_rad = Vec3(p.bending_stiffness_Nm2 / m.h_m, p.bending_stiffness_Nm2 / m.h_m,
-                                      p.torsional_stiffness_Nm2 / m.h_m);
+  m.joint_stiffness_Nm_per_rad.resize(std::max(0, m.segment_count - 1));
+  for (int k = 0; k + 1 < m.segment_count; ++k) {
+    double ei = p.bending_stiffness_Nm2, gj = p.torsional_stiffness_Nm2;
+    const double s_m = (k + 1) * m.h_m;
+    for (size_t i = 0; i < p.stiffness_profile.size(); ++i) {
+      ei = p.stiffness_profile[i].bending_stiffness_Nm2;
+      gj = p.stiffness_profile[i].torsional_stiffness_Nm2;
+      if (s_m < p.stiffness_profile[i].to_m) break;
+    }
+    m.joint_stiffness_Nm_per_rad[k] = Vec3(ei / m.h_m, ei / m.h_m, gj / m.h_m);
+  }
   m.bending_joints = std::max(1, static_cast<int>(std::lround(p.bending_section_length_m / m.h_m)));
   if (p.active.enabled) {
     const ActiveScopeParams& a = p.active;

@@ -60,12 +60,32 @@ struct VariableStiffnessParams {
   int default_level = 0;             ///< the level when the input names none
 };
 
+/// One section of the insertion tube's stiffness profile: from the previous section's end
+/// (the tip for the first) to to_m, measured along the scope from the tip [m].
+struct StiffnessSection {
+  double to_m = 0.0;                     ///< where the section ends, arclength from the tip [m]
+  double bending_stiffness_Nm2 = 0.0;    ///< EI [N m^2]
+  double torsional_stiffness_Nm2 = 0.0;  ///< GJ [N m^2/rad]
+};
+
 struct ScopeParams {
   double working_length_m = 1.6;          ///< insertion tube length [m]
   double outer_diameter_m = 0.0125;       ///< [m]
   double mass_per_length_kg_per_m = 0.2;  ///< [kg/m]
   double bending_stiffness_Nm2 = 0.03;    ///< EI [N m^2]
   double torsional_stiffness_Nm2 = 0.4;   ///< GJ [N m^2/rad]
+  /// EI and GJ along the scope, sections from the tip in order (a scope design's
+  /// stiffness_profile, trainer/scope_design.h). Empty: bending_stiffness_Nm2 and
+  /// torsional_stiffness_Nm2 over the whole length. A joint takes the section its
+  /// arclength from the tip lies in (the last section reaches to the handle).
+  std::vector<StiffnessSection> stiffness_profile;
+  /// The knobs' stops [rad]: inputs beyond them are clamped (within the handle's
+  /// kKnobUpDownMax_rad and kKnobLeftRightMax_rad).
+  double knob_updown_max_rad = kKnobUpDownMax_rad;
+  double knob_leftright_max_rad = kKnobLeftRightMax_rad;
+  /// The tip light: distance at which it gives unit irradiance on the mucosa, a measure of
+  /// its power (render/camera.h OnboardOptics::light_ref_m) [m].
+  double tip_light_reach_m = 0.02;
   double bending_section_length_m = 0.09; ///< steerable tip [m]
   double segment_length_m = 0.015;        ///< h: length of one rigid segment [m]
   double joint_stiffness_N_per_m = 2e6;   ///< penalty keeping consecutive segments joined [N/m]
@@ -105,7 +125,9 @@ struct ScopeModel {
   double radius_m = 0;            ///< outer radius [m]
   double segment_mass_kg = 0;     ///< [kg]
   Vec3 segment_inertia_kgm2 = Vec3::Zero();  ///< principal inertia about d1, d2, d3 [kg m^2]
-  Vec3 joint_stiffness_Nm_per_rad = Vec3::Zero();  ///< (EI/h, EI/h, GJ/h) [N m/rad]
+  /// Per joint k (between segments k and k+1, at arclength (k+1) h from the tip), K - 1 of
+  /// them: (EI/h, EI/h, GJ/h) of the stiffness section the joint lies in [N m/rad].
+  std::vector<Vec3> joint_stiffness_Nm_per_rad;
   int bending_joints = 0;         ///< joints 0 .. bending_joints-1 are steered by the knobs
   /// Joints first_actuated_joint .. actuated_joints-1 are actuated (active scope; joint k
   /// lies at arclength (k+1) h from the tip), their rest bend no longer the knobs'. The

@@ -44,7 +44,7 @@ JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const Han
   const Vec3 err = omega - jointRestRotation(m, s, k, in);
   const Mat3 A = rightJacobianInverse(omega) * s.R_WS[k].transpose();
   const Vec3 rel_rate = A * (s.w_W[k] - s.w_W[k + 1]);
-  Vec3 kd = m.joint_stiffness_Nm_per_rad;
+  Vec3 kd = m.joint_stiffness_Nm_per_rad[k];
   const double ei_factor = bendingStiffnessFactor(m, k, in);  // the variable-stiffness level (1 elsewhere)
   kd.x() *= ei_factor;
   kd.y() *= ei_factor;

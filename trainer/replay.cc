@@ -20,6 +20,8 @@ SessionHeader sessionHeaderFor(const Scenario& scenario, const std::string& colo
   h.params_hash = hashFile(scenario.params_path);
   if (scenario.params_replaced) h.params = scenario.params_path;
   h.anatomy_hash = hashFile(scenario.anatomy_path);
+  h.scope_hash = hashFile(scenario.scope_path);
+  if (scenario.scope_replaced) h.scope = scenario.scope_path;
   h.colosim_version = colosim_version;
   h.dt_s = scenario.dt_s;
   h.seed = scenario.seed;
@@ -81,6 +83,14 @@ ReplayPlan planReplay(const std::string& session_path) {
                        " the session was recorded with does not exist");
     useParameterFile(p.scenario, h.params);
   }
+  // The scope design the run used in place of the scenario's.
+  if (!h.scope.empty()) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(h.scope, ec))
+      throw InputError(session_path + ":1: scope: the scope design " + h.scope +
+                       " the session was recorded with does not exist");
+    useScopeDesign(p.scenario, h.scope);
+  }
   // The patient position the trainee chose on the trainer's start screen.
   if (!h.patient_position.empty()) choosePatientPosition(p.scenario, h.patient_position);
   // The recording's time step and seed rule (a run may have overridden the scenario's).
@@ -94,6 +104,7 @@ ReplayPlan planReplay(const std::string& session_path) {
   warnIf(p.scenario.file_hash != h.scenario_hash, "scenario", p.scenario.file);
   warnIf(hashFile(p.scenario.params_path) != h.params_hash, "parameter", p.scenario.params_path);
   warnIf(hashFile(p.scenario.anatomy_path) != h.anatomy_hash, "anatomy", p.scenario.anatomy_path);
+  warnIf(h.scope_hash != 0 && hashFile(p.scenario.scope_path) != h.scope_hash, "scope design", p.scenario.scope_path);
   return p;
 }
 

@@ -10,6 +10,7 @@
 #include "trainer/assets.h"
 #include "trainer/handle_io.h"
 #include "trainer/json_position.h"
+#include "trainer/scope_design.h"
 #include "trainer/strict_json.h"
 
 namespace colosim {
@@ -48,6 +49,7 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
   }
   s.anatomy_path = assetFile(top, "anatomy");
   s.params_path = assetFile(top, "params");
+  s.scope_path = top.has("scope") ? assetFile(top, "scope") : assetPath(kDefaultScopeDesign);
   s.dt_s = top.number("dt_s", 1e-5, 1e-2);
   s.duration_s = top.number("duration_s", 1e-3, 1e5);
   s.seed = top.integer("seed", 0, INT_MAX);
@@ -227,6 +229,9 @@ InputError scenarioError(const std::string& file, const std::string& message) {
 
 Parameters scenarioParameters(const Scenario& scenario) {
   Parameters params = loadParameters(scenario.params_path);
+  const ScopeDesign design = loadScopeDesign(scenario.scope_path);
+  applyScopeDesign(design, params.scope);
+  if (!scenario.params_replaced) params.contact.friction_coefficient = design.sheath_friction;
   if (scenario.overrides.patient_position) params.colon.patient_position = *scenario.overrides.patient_position;
   if (scenario.overrides.wall_friction) params.contact.friction_coefficient = *scenario.overrides.wall_friction;
   if (scenario.overrides.colon_axial_rigidity_N) {
@@ -262,6 +267,15 @@ void choosePatientPosition(Scenario& scenario, const std::string& position) {
     throw InputError("patient position '" + position + "': expected left_lateral, right_lateral, supine or prone");
   scenario.overrides.patient_position = position;
   scenario.patient_position_chosen = true;
+}
+
+void useScopeDesign(Scenario& scenario, const std::string& scope_path) {
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(scope_path, ec);
+  const std::string path = ec ? scope_path : absolute.lexically_normal().string();
+  loadScopeDesign(path);  // refuses a file that is not a scope design now, not at the run
+  scenario.scope_path = path;
+  scenario.scope_replaced = true;
 }
 
 std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path) {

@@ -81,6 +81,12 @@ struct Scenario {
   /// params_path is not the file the scenario names but one given for the run
   /// (useParameterFile); sessions then record it.
   bool params_replaced = false;
+  /// Resolved path of the scope design (trainer/scope_design.h; key "scope", default
+  /// scopes/standard.json).
+  std::string scope_path;
+  /// scope_path is not the design the scenario names but one given for the run
+  /// (useScopeDesign: a design study, `colosim run --scope`); sessions then record it.
+  bool scope_replaced = false;
   /// overrides.patient_position is the trainee's choice (choosePatientPosition), not the
   /// file's; sessions then record it.
   bool patient_position_chosen = false;
@@ -116,8 +122,10 @@ std::vector<std::string> shippedScenarioNames();
 /// of its key in the scenario file added when the file still has it.
 InputError scenarioError(const std::string& file, const std::string& message);
 
-/// The parameters a scenario runs with: its parameter file with its overrides applied
-/// (patient position, wall friction, colon axial rigidity). InputError naming the
+/// The parameters a scenario runs with: its parameter file, its scope design
+/// (trainer/scope_design.h: the design's sheath friction unless the parameter file was
+/// replaced) and its overrides applied (patient position, wall friction, colon axial
+/// rigidity). InputError naming the
 /// scenario's line when it overrides the EA of a parameter file that carries a tension law.
 Parameters scenarioParameters(const Scenario& scenario);
 /// Runs the scenario with another parameter file (`colosim run SCENARIO --params FILE`, e.g.
@@ -125,6 +133,11 @@ Parameters scenarioParameters(const Scenario& scenario);
 /// colon's axial rigidity to use, so the scenario's wall_friction and colon_axial_rigidity_N
 /// overrides are dropped; the wall friction's value is returned (empty: none).
 std::optional<double> useParameterFile(Scenario& scenario, const std::string& params_path);
+
+/// Runs the scenario with another scope design (`colosim run SCENARIO --scope FILE`, a design
+/// study): the path is made absolute and recorded in sessions. InputError when the file
+/// cannot be read as a scope design.
+void useScopeDesign(Scenario& scenario, const std::string& scope_path);
 
 /// The patient positions a scenario can take (core/colon_model.h gravityForPosition).
 const std::vector<std::string>& patientPositions();

@@ -34,6 +34,7 @@ void drawViews(Renderer& renderer, const SceneView& scene, const std::string& vi
   if (view == "onboard" || view == "both") {
     OnboardOptics optics;
     optics.render_scale = onboard_scale;
+    optics.light_ref_m = scene.tip_light_reach_m;
     renderer.drawOnboard(*scene.colon, scene.colon_q, shape, tipCameraPose(scene.p_WTip_m, scene.R_WTip),
                          Viewport{0, 0, width_px, height_px}, optics);
     x = width_px;

@@ -54,6 +54,11 @@ SessionHeader readHeader(JsonObject& o) {
     if (h.params.empty()) o.fail("params", "must not be empty (leave the key out for the scenario's own file)");
   }
   h.anatomy_hash = readHash(o, "anatomy_hash");
+  if (o.has("scope_hash")) h.scope_hash = readHash(o, "scope_hash");
+  if (o.has("scope")) {
+    h.scope = o.string("scope");
+    if (h.scope.empty()) o.fail("scope", "must not be empty (leave the key out for the scenario's own design)");
+  }
   h.colosim_version = o.string("colosim_version");
   h.dt_s = o.number("dt_s", 1e-5, 1e-2);
   h.seed = o.integer("seed", 0, INT_MAX);
@@ -211,6 +216,8 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
   j["params_hash"] = hashToHex(header.params_hash);
   if (!header.params.empty()) j["params"] = header.params;
   j["anatomy_hash"] = hashToHex(header.anatomy_hash);
+  if (header.scope_hash != 0) j["scope_hash"] = hashToHex(header.scope_hash);
+  if (!header.scope.empty()) j["scope"] = header.scope;
   j["colosim_version"] = header.colosim_version;
   j["dt_s"] = header.dt_s;
   j["seed"] = header.seed;

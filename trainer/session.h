@@ -29,6 +29,12 @@ struct SessionHeader {
   /// e.g. an identified model), as an absolute path; empty: the scenario's own.
   std::string params;
   uint64_t anatomy_hash = 0;    ///< FNV-1a of the anatomy file
+  /// FNV-1a of the scope design file (optional key scope_hash, 0: not recorded, sessions
+  /// written before scope designs).
+  uint64_t scope_hash = 0;
+  /// The scope design the run used instead of the scenario's (useScopeDesign), as an
+  /// absolute path; empty: the scenario's own.
+  std::string scope;
   std::string colosim_version;  ///< version of the build that recorded it
   double dt_s = 1e-3;           ///< time step [s]
   int seed = 0;

@@ -27,6 +27,7 @@ struct SceneView {
   Points colon_q;                        ///< colon control points (3 x n) [m]
   std::vector<Vec3> scope_centreline_m;  ///< from outside the anus to the tip [m]
   double scope_radius_m = 0.0;           ///< [m]
+  double tip_light_reach_m = 0.02;       ///< the tip light (ScopeParams::tip_light_reach_m) [m]
   Vec3 p_WTip_m = Vec3::Zero();          ///< scope tip [m]
   Mat3 R_WTip = Mat3::Identity();        ///< tip segment frame (d1, d2 up, d3 forward)
 };

@@ -262,6 +262,7 @@ bool WorldSimulation::scene(SceneView& out) const {
   out.colon_q = state_.colon.q;
   out.scope_centreline_m = scopeCentreline();
   out.scope_radius_m = model_.scope.radius_m;
+  out.tip_light_reach_m = model_.scope.params.tip_light_reach_m;
   out.p_WTip_m = tipPosition(model_.scope, state_.scope);
   out.R_WTip = state_.scope.R_WS[0];
   return true;

@@ -39,8 +39,8 @@ ScopeState insertAndHold(const ScopeModel& m, double L, double seconds, double h
 TEST(Scope, ModelFollowsTheParameters) {
   const ScopeModel m = freeScope();
   EXPECT_EQ(m.segment_count, 107);  // 1.6 m in 1.5 cm segments
-  EXPECT_NEAR(m.joint_stiffness_Nm_per_rad.x(), 0.03 / 0.015, 1e-12);
-  EXPECT_NEAR(m.joint_stiffness_Nm_per_rad.z(), 0.4 / 0.015, 1e-12);
+  EXPECT_NEAR(m.joint_stiffness_Nm_per_rad[0].x(), 0.03 / 0.015, 1e-12);
+  EXPECT_NEAR(m.joint_stiffness_Nm_per_rad[0].z(), 0.4 / 0.015, 1e-12);
   EXPECT_EQ(m.bending_joints, 6);  // 9 cm steerable tip
   EXPECT_EQ(m.interaction_points_S.size(), 6u);
   for (const Vec3& p : m.interaction_points_S) EXPECT_NEAR(p.head<2>().norm(), 0.00625, 1e-12);
