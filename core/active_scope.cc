@@ -12,14 +12,6 @@ namespace {
 // The bending stiffness K_b = EI/h of joint k [N m/rad].
 double bendingStiffness(const ScopeModel& m, int k) { return m.joint_stiffness_Nm_per_rad[k].x(); }
 
-// The smallest world rotation taking unit axis a to unit axis b [rad].
-Vec3 rotationBetween(const Vec3& a, const Vec3& b) {
-  const Vec3 c = a.cross(b);
-  const double sn = c.norm(), cs = a.dot(b);
-  if (sn < 1e-12) return Vec3::Zero();  // parallel (antiparallel cannot occur between samples h apart)
-  return c * (std::atan2(sn, cs) / sn);
-}
-
 Vec3 bendingOnly(Vec3 v) {
   v.z() = 0;
   return v;
