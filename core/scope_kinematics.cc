@@ -31,6 +31,7 @@ HandleInput clampHandleInput(const ScopeModel& m, const HandleInput& in) {
   c.knob_updown_rad = std::clamp(finite(in.knob_updown_rad), -m.params.knob_updown_max_rad, m.params.knob_updown_max_rad);
   c.knob_leftright_rad =
       std::clamp(finite(in.knob_leftright_rad), -m.params.knob_leftright_max_rad, m.params.knob_leftright_max_rad);
+  c.stiffness_level = std::clamp(in.stiffness_level, -1, kStiffnessLevelsMax - 1);
   return c;
 }
 
@@ -40,6 +41,18 @@ Vec3 restJointRotation(const ScopeModel& m, int joint, const HandleInput& in) {
   // image's right, -d1: a rotation about d2 by -angle.
   const double n = m.bending_joints;
   return Vec3(-in.knob_updown_rad / n, -in.knob_leftright_rad / n, 0.0);
+}
+
+int stiffnessLevelOf(const ScopeModel& m, const HandleInput& in) {
+  const VariableStiffnessParams& v = m.params.variable_stiffness;
+  if (v.levels.empty()) return 0;
+  if (in.stiffness_level < 0) return v.default_level;
+  return std::min(in.stiffness_level, static_cast<int>(v.levels.size()) - 1);
+}
+
+double bendingStiffnessFactor(const ScopeModel& m, int joint, const HandleInput& in) {
+  if (joint < m.variable_first_joint || joint >= m.variable_end_joint) return 1.0;
+  return m.params.variable_stiffness.levels[stiffnessLevelOf(m, in)];
 }
 
 Vec3 tipPosition(const ScopeModel& m, const ScopeState& s) {

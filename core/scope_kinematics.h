@@ -26,12 +26,21 @@ void exitPose(const ScopeModel& model, int k, double insertion_m, double rotatio
               Vec3* p_W, Mat3* R_WS);
 
 /// Clamps handle inputs into the scope's ranges (insertion within the working length,
-/// knobs within their stops); NaN becomes 0.
+/// knobs within their stops, the stiffness level within -1 .. kStiffnessLevelsMax - 1); NaN becomes 0.
 HandleInput clampHandleInput(const ScopeModel& model, const HandleInput& in);
 
 /// Rest relative rotation of joint k (between segment k and k+1) for the knob angles [rad]:
 /// each of the model.bending_joints joints of the steerable tip takes 1/n of the knob angles.
 Vec3 restJointRotation(const ScopeModel& model, int joint, const HandleInput& in);
+
+/// The factor on the bending stiffness EI of joint k for the input's stiffness level: the
+/// level's multiplier in the variable-stiffness section (level -1: the default level; past
+/// the last: the last), 1 elsewhere and on a scope without one.
+double bendingStiffnessFactor(const ScopeModel& model, int joint, const HandleInput& in);
+
+/// The stiffness level in effect for the input: an index into the section's levels (0 on a
+/// scope without a variable-stiffness section).
+int stiffnessLevelOf(const ScopeModel& model, const HandleInput& in);
 
 /// Tip position [m] and frame (the tip segment's material frame; the camera looks along d3).
 Vec3 tipPosition(const ScopeModel& model, const ScopeState& state);

@@ -49,6 +49,28 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
     m.joint_stiffness_Nm_per_rad[k] = Vec3(ei / m.h_m, ei / m.h_m, gj / m.h_m);
   }
   m.bending_joints = std::max(1, static_cast<int>(std::lround(p.bending_section_length_m / m.h_m)));
+  if (p.active.enabled) {
+    const ActiveScopeParams& a = p.active;
+    if (!(a.joint_torque_limit_Nm > 0) || !(a.time_constant_s > 0) || !(a.actuated_length_m >= 0) ||
+        !std::isfinite(a.actuated_length_m) || !(a.contact_gain >= 0) || a.contact_neighbours < 0 ||
+        !(a.contact_relax_s > 0))
+      throw std::invalid_argument("scope: active joints need a positive torque limit and time constant");
+    // Joint k (at (k+1) h from the tip) is actuated when it lies within the actuated length.
+    m.actuated_joints = std::min(m.segment_count - 1, static_cast<int>(std::floor(a.actuated_length_m / m.h_m + 1e-9)));
+    m.first_actuated_joint = a.strategy == ActiveStrategy::kFollowTheLeader ? 1 : m.bending_joints;
+    m.actuated_joints = std::max(m.actuated_joints, m.first_actuated_joint);
+  }
+  const VariableStiffnessParams& v = p.variable_stiffness;
+  if (!v.levels.empty()) {
+    bool positive = true;
+    for (double x : v.levels) positive = positive && x > 0 && std::isfinite(x);
+    if (!positive || static_cast<int>(v.levels.size()) > kStiffnessLevelsMax || !(v.from_m >= 0) ||
+        !(v.to_m > v.from_m) || v.default_level < 0 || v.default_level >= static_cast<int>(v.levels.size()))
+      throw std::invalid_argument("scope: a variable-stiffness section needs from < to, positive levels and a default among them");
+    // Joint k lies at (k+1) h from the tip.
+    m.variable_first_joint = std::max(0, static_cast<int>(std::ceil(v.from_m / m.h_m - 1e-9)) - 1);
+    m.variable_end_joint = std::min(m.segment_count - 1, static_cast<int>(std::floor(v.to_m / m.h_m + 1e-9)));
+  }
   m.p_W_anus = p_W_anus;
   const Vec3 d3 = entry.normalized();
   Vec3 d2 = up_hint - up_hint.dot(d3) * d3;

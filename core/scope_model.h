@@ -21,6 +21,45 @@
 
 namespace colosim {
 
+/// How the actuated joints of an active scope choose their rest bend (core/active_scope.h).
+enum class ActiveStrategy {
+  kFollowTheLeader,     ///< each joint takes the bend the tip had at that insertion depth
+  kContactMinimising,   ///< each joint yields to the wall contact moment of its neighbourhood
+};
+
+/// An active, polyarticulated scope (the paper's SMA-driven segments, issue 20): the
+/// joints from the steerable tip's end up to actuated_length_m from the tip have a rest
+/// bend commanded by actuators (ScopeState::joint_rest_rad), which follows the strategy's
+/// target through a first-order lag and whose moment on the joint,
+/// |(EI/h) (rest - actual)| over the two bending axes, never exceeds the torque limit at a
+/// step's end. Off (`enabled` false): every joint passive, the step as without it.
+struct ActiveScopeParams {
+  bool enabled = false;
+  ActiveStrategy strategy = ActiveStrategy::kFollowTheLeader;
+  double joint_torque_limit_Nm = 0.5;  ///< largest actuator bending moment per joint [N m]
+  double time_constant_s = 0.05;       ///< actuator bandwidth as a first-order time constant [s]
+  double actuated_length_m = 0.6;      ///< joints within this arclength from the tip are actuated [m]
+  /// contact_minimising: the agent's yield rate: its rest moves at gain M / ((EI/h) tau)
+  /// for a contact moment M on its neighbourhood [-] (the actuator's lag integrates it).
+  double contact_gain = 1.0;
+  /// contact_minimising: without contact the rest relaxes back to straight (passive) with
+  /// this time constant [s].
+  double contact_relax_s = 1.0;
+  int contact_neighbours = 2;  ///< contact_minimising: segments each side of a joint whose contacts it sees
+};
+
+/// A variable-stiffness section (issue 20; Olympus ScopeGuide / Innovex variable-stiffness
+/// colonoscopes): the operator switches the bending stiffness EI of the joints within
+/// [from_m, to_m] of arclength from the tip between levels, each a multiplier of the
+/// section's own EI (stiffness profile); HandleInput::stiffness_level picks the level
+/// (-1: default_level). GJ is not changed. Off: levels empty.
+struct VariableStiffnessParams {
+  double from_m = 0.0;               ///< start of the section, arclength from the tip [m]
+  double to_m = 0.0;                 ///< end of the section, arclength from the tip [m]
+  std::vector<double> levels;        ///< EI multipliers per level [-], > 0; empty: no section
+  int default_level = 0;             ///< the level when the input names none
+};
+
 /// One section of the insertion tube's stiffness profile: from the previous section's end
 /// (the tip for the first) to to_m, measured along the scope from the tip [m].
 struct StiffnessSection {
@@ -75,6 +114,8 @@ struct ScopeParams {
   /// and half a turn a second.
   double grip_catch_up_m_per_s = 0.05;    ///< [m/s]
   double grip_catch_up_rad_per_s = 3.14159265358979323846;  ///< [rad/s]
+  ActiveScopeParams active;               ///< actuated joints (off by default: a passive scope)
+  VariableStiffnessParams variable_stiffness;  ///< operator-switched EI (off by default: levels empty)
 };
 
 struct ScopeModel {
@@ -88,6 +129,17 @@ struct ScopeModel {
   /// them: (EI/h, EI/h, GJ/h) of the stiffness section the joint lies in [N m/rad].
   std::vector<Vec3> joint_stiffness_Nm_per_rad;
   int bending_joints = 0;         ///< joints 0 .. bending_joints-1 are steered by the knobs
+  /// Joints first_actuated_joint .. actuated_joints-1 are actuated (active scope; joint k
+  /// lies at arclength (k+1) h from the tip), their rest bend no longer the knobs'. The
+  /// first is 1 for follow-the-leader (the knobs steer the tip's joint only: the leader),
+  /// bending_joints for contact-minimising (the knobs steer the whole bending section).
+  /// actuated_joints is 0 when the scope is passive.
+  int first_actuated_joint = 0;
+  int actuated_joints = 0;
+  /// Joints variable_first_joint .. variable_end_joint-1 lie in the variable-stiffness
+  /// section (none when the scope has none) [-].
+  int variable_first_joint = 0;
+  int variable_end_joint = 0;
   Vec3 p_W_anus = Vec3::Zero();   ///< the anus: fixed entry point [m]
   Mat3 R_W_entry = Mat3::Identity();  ///< scope frame at the anus at zero rotation (d3 = entry direction)
   Vec3 gravity_m_per_s2 = Vec3::Zero();

@@ -20,6 +20,12 @@ ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
   s.system.resize(K);
   s.rhs = Eigen::VectorXd::Zero(6 * K);
   s.force = Eigen::VectorXd::Zero(6 * K);
+  s.has_stiffness_levels = !m.params.variable_stiffness.levels.empty();
+  if (m.params.active.enabled) {
+    s.joint_rest_rad.assign(K, Vec3::Zero());
+    s.lead_bend_rad.assign(K, Vec3::Zero());
+    s.lead_count = 1;  // the tip at the anus, along the entry
+  }
   s.start.p_W = s.p_W;
   s.start.R_WS = s.R_WS;
   s.start.v_W = s.v_W;
@@ -46,6 +52,14 @@ void copyStartFields(const From& a, To& b) {
 
 constexpr size_t kSnapshotHeader = 12;  // time, inside, tilted segment, tilt (3), inputs (4), grip slip (2)
 
+// The active scope's part of the snapshot, after the segments (none when it is off, so a
+// passive scope's snapshot and hash are as before): lead count, then per joint its rest
+// rotation and the lead's bend (6 values each).
+// Then, on a scope with a variable-stiffness section, the stiffness level of the input.
+size_t activeSnapshotSize(const ScopeState& s) {
+  return (s.joint_rest_rad.empty() ? 0 : 1 + 6 * s.joint_rest_rad.size()) + (s.has_stiffness_levels ? 1 : 0);
+}
+
 }  // namespace
 
 void saveStart(ScopeState& s) { copyStartFields(s, s.start); }
@@ -55,7 +69,7 @@ void restoreStart(ScopeState& s) { copyStartFields(s.start, s); }
 std::vector<double> getScopeState(const ScopeState& s) {
   std::vector<double> out;
   const size_t K = s.p_W.size();
-  out.reserve(kSnapshotHeader + K * 18);
+  out.reserve(kSnapshotHeader + K * 18 + activeSnapshotSize(s));
   out.push_back(s.time_s);
   out.push_back(s.inside);
   out.push_back(s.tilted_segment);
@@ -72,14 +86,21 @@ std::vector<double> getScopeState(const ScopeState& s) {
     out.insert(out.end(), s.v_W[k].data(), s.v_W[k].data() + 3);
     out.insert(out.end(), s.w_W[k].data(), s.w_W[k].data() + 3);
   }
+  if (!s.joint_rest_rad.empty()) {
+    out.push_back(s.lead_count);
+    for (size_t k = 0; k < s.joint_rest_rad.size(); ++k)
+      for (const Vec3* v : {&s.joint_rest_rad[k], &s.lead_bend_rad[k]}) out.insert(out.end(), v->data(), v->data() + 3);
+  }
+  if (s.has_stiffness_levels) out.push_back(s.input.stiffness_level);
   return out;
 }
 
 void setScopeState(const std::vector<double>& snap, ScopeState& s) {
   const size_t K = s.p_W.size();
-  if (snap.size() != kSnapshotHeader + K * 18)
+  const size_t expected = kSnapshotHeader + K * 18 + activeSnapshotSize(s);
+  if (snap.size() != expected)
     throw std::invalid_argument("scope state snapshot has " + std::to_string(snap.size()) +
-                                " values, expected " + std::to_string(kSnapshotHeader + K * 18));
+                                " values, expected " + std::to_string(expected));
   size_t i = 0;
   s.time_s = snap[i++];
   s.inside = static_cast<int>(snap[i++]);
@@ -97,6 +118,15 @@ void setScopeState(const std::vector<double>& snap, ScopeState& s) {
     std::memcpy(s.v_W[k].data(), &snap[i], 3 * sizeof(double)); i += 3;
     std::memcpy(s.w_W[k].data(), &snap[i], 3 * sizeof(double)); i += 3;
   }
+  if (!s.joint_rest_rad.empty()) {
+    s.lead_count = static_cast<int>(snap[i++]);
+    for (size_t k = 0; k < s.joint_rest_rad.size(); ++k)
+      for (Vec3* v : {&s.joint_rest_rad[k], &s.lead_bend_rad[k]}) {
+        std::memcpy(v->data(), &snap[i], 3 * sizeof(double));
+        i += 3;
+      }
+  }
+  if (s.has_stiffness_levels) s.input.stiffness_level = static_cast<int>(snap[i++]);
 }
 
 }  // namespace colosim

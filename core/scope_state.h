@@ -52,6 +52,19 @@ struct ScopeState {
   double asked_handle_force_N = 0;   ///< handle force the commanded motion asked for in the last step [N]
   double asked_handle_torque_Nm = 0; ///< handle torque the commanded motion asked for in the last step [N m]
 
+  /// The scope has a variable-stiffness section: the snapshot then holds input.stiffness_level.
+  bool has_stiffness_levels = false;
+
+  // The active scope (ScopeParams::active; core/active_scope.h). Empty when it is off.
+  /// Commanded rest rotation of each joint (K, joint k between segments k and k+1) in the
+  /// joint frame, the actuators' output; only the actuated joints' entries are used [rad].
+  std::vector<Vec3> joint_rest_rad;
+  /// The lead: the bend of the tip's joint (joint 0: the knobs' rest rotation, joint frame)
+  /// when the insertion was j h [rad], samples j = 0 .. lead_count-1 (K). Kept when the
+  /// scope is withdrawn; a sample is taken again whenever the insertion passes j h going in.
+  std::vector<Vec3> lead_bend_rad;
+  int lead_count = 0;
+
   // Scratch, sized by makeScopeState() so that the step allocates nothing.
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;

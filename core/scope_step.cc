@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/active_scope.h"
 #include "core/rotation.h"
 #include "core/scope_grip.h"
 
@@ -40,10 +41,13 @@ JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const Han
   // Rotation: bending and torsion against the rest rotation.
   const Mat3 R_rel = s.R_WS[k + 1].transpose() * s.R_WS[k];
   const Vec3 omega = logSO3(R_rel);
-  const Vec3 err = omega - restJointRotation(m, k, in);
+  const Vec3 err = omega - jointRestRotation(m, s, k, in);
   const Mat3 A = rightJacobianInverse(omega) * s.R_WS[k].transpose();
   const Vec3 rel_rate = A * (s.w_W[k] - s.w_W[k + 1]);
-  const Vec3& kd = m.joint_stiffness_Nm_per_rad[k];
+  Vec3 kd = m.joint_stiffness_Nm_per_rad[k];
+  const double ei_factor = bendingStiffnessFactor(m, k, in);  // the variable-stiffness level (1 elsewhere)
+  kd.x() *= ei_factor;
+  kd.y() *= ei_factor;
   const Vec3 moment = kd.cwiseProduct(err + m.params.joint_damping_s * rel_rate);  // joint frame
   const Vec3 tau = A.transpose() * moment;  // world torque on the distal segment is -tau
 
@@ -333,6 +337,9 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
   // again from the start); the slip is kept for catching up.
   holdWithinGrip(m, s, target, dt);
   recordGripSlip(s, cmd);
+  // The active scope's actuators (nothing for a passive scope): the lead recorded, the
+  // actuated joints' rest bends one lag step towards their targets, within the torque limit.
+  updateActiveScope(m, s, s.start.input.insertion_m, dt);
 }
 
 double scopeKineticEnergy(const ScopeModel& m, const ScopeState& s) {

@@ -125,6 +125,9 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
     a = b;
     arc_a = hi;
   }
+  // An active scope starts passive, its lead taken from the shaft at its first step.
+  std::fill(sc.joint_rest_rad.begin(), sc.joint_rest_rad.end(), Vec3::Zero());
+  if (!sc.lead_bend_rad.empty()) sc.lead_count = 1;
   for (WallTrack& t : s.track) t = WallTrack();
   for (WallTrack& t : s.slice_track) t = WallTrack();
 }

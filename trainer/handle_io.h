@@ -18,10 +18,12 @@ constexpr double kRotationMax_rad = 1.0e6;
 
 /// Reads the four handle keys (insertion_m, rotation_rad, knob_updown_rad,
 /// knob_leftright_rad) of `obj`: each required, finite and within range
-/// (insertion [0, 2] m, knobs within +-180 / +-160 deg). InputError otherwise.
+/// (insertion [0, 2] m, knobs within +-180 / +-160 deg), and the optional stiffness_level
+/// (an integer 0-15; left out: -1, the scope design's default level). InputError otherwise.
 HandleInput readHandleInput(JsonObject& obj);
 
-/// Writes the four handle keys into a JSON object (doubles round-trip exactly).
+/// Writes the four handle keys into a JSON object (doubles round-trip exactly), and
+/// stiffness_level when it is not the default (-1): files without it read as before.
 void writeHandleInput(nlohmann::json& obj, const HandleInput& in);
 
 /// True when the two inputs are bit-for-bit the same values.

@@ -15,6 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "core/scope_kinematics.h"
 #include "trainer/handle_io.h"
 #include "trainer/replay.h"
 
@@ -55,7 +56,17 @@ HandleInput integrateHandle(const HandleInput& prev, const HandleRates& rates, d
   in.knob_updown_rad = std::clamp(in.knob_updown_rad, -limits.knob_updown_max_rad, limits.knob_updown_max_rad);
   in.knob_leftright_rad =
       std::clamp(in.knob_leftright_rad, -limits.knob_leftright_max_rad, limits.knob_leftright_max_rad);
+  // Held: a press of the stiffness key changes it (nextStiffnessLevel).
+  in.stiffness_level = rates.stiffness_level >= 0 ? rates.stiffness_level : prev.stiffness_level;
   return in;
+}
+
+int nextStiffnessLevel(const ScopeModel& scope, int current_level) {
+  const int n = static_cast<int>(scope.params.variable_stiffness.levels.size());
+  if (n == 0) return -1;
+  HandleInput in;
+  in.stiffness_level = current_level;
+  return (stiffnessLevelOf(scope, in) + 1) % n;
 }
 
 namespace {

@@ -35,6 +35,9 @@ struct HandleRates {
   /// Knobs back to neutral at knob_return_rad_per_s (overrides the knob rates).
   bool centre_knobs = false;
   double knob_return_rad_per_s = 1.5;     ///< [rad/s]
+  /// The variable-stiffness level the operator chose (HandleInput::stiffness_level); -1:
+  /// none chosen, the previous input's is kept.
+  int stiffness_level = -1;
 };
 
 /// The range of every handle input.
@@ -51,8 +54,14 @@ HandleLimits handleLimitsOf(const ScopeModel& scope);
 
 /// One step of the operator's controls: prev + dt_s * rates, each input clamped to its
 /// range (a knob pushed past its stop stays at the stop). Non-finite rates count as 0.
+/// The stiffness level is the rates' when they name one, else the previous input's.
 HandleInput integrateHandle(const HandleInput& prev, const HandleRates& rates, double dt_s,
                             const HandleLimits& limits);
+
+/// The level a press of the stiffness key (F, the gamepad's right stick button) switches
+/// to: the next of the scope's variable-stiffness levels after the one in effect (from the
+/// last back to the first); -1 on a scope without a variable-stiffness section.
+int nextStiffnessLevel(const ScopeModel& scope, int current_level);
 
 /// The state of the controls at one poll of the keyboard and the gamepad.
 struct ControlState {

@@ -217,6 +217,7 @@ HandleInput scriptedInput(const std::vector<Keyframe>& script, double t_s) {
   in.rotation_rad = lerp(a.input.rotation_rad, b.input.rotation_rad);
   in.knob_updown_rad = lerp(a.input.knob_updown_rad, b.input.knob_updown_rad);
   in.knob_leftright_rad = lerp(a.input.knob_leftright_rad, b.input.knob_leftright_rad);
+  in.stiffness_level = a.input.stiffness_level;  // held until the next keyframe, not interpolated
   return in;
 }
 

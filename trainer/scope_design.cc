@@ -61,6 +61,48 @@ ScopeDesign designFromJson(const std::string& text, const std::string& file) {
   d.knob_leftright_max_rad = top.quantity("knob_leftright_max", "rad", 0.0, kKnobLeftRightMax_rad);
   d.tip_light_reach_m = top.quantity("tip_light_reach", "m", 0.001, 0.2);
   d.sheath_friction = top.quantity("sheath_friction", "1", 0.0, 2.0);
+  if (top.has("active")) {
+    // An active scope (issue 20): its joints from the tip over actuated_length_m bent by actuators.
+    JsonObject a = top.object("active");
+    d.active.enabled = true;
+    const std::string strategy = a.choice("strategy", {"follow_the_leader", "contact_minimising"});
+    d.active.strategy =
+        strategy == "follow_the_leader" ? ActiveStrategy::kFollowTheLeader : ActiveStrategy::kContactMinimising;
+    d.active.joint_torque_limit_Nm = a.number("joint_torque_limit_Nm", 1e-4, 100.0);
+    d.active.time_constant_s = a.number("time_constant_s", 1e-3, 100.0);
+    d.active.actuated_length_m = a.number("actuated_length_m", 0.0, 3.0);
+    if (!(d.active.actuated_length_m <= d.working_length_m))
+      a.fail("actuated_length_m", "must be within the working length (" + std::to_string(d.working_length_m) + " m)");
+    if (a.has("contact_gain")) d.active.contact_gain = a.number("contact_gain", 0.0, 1000.0);
+    if (a.has("contact_relax_s")) d.active.contact_relax_s = a.number("contact_relax_s", 1e-3, 1e4);
+    a.ignore("source");
+    a.ignore("note");
+    a.finish();
+  }
+  if (top.has("variable_stiffness")) {
+    // A section whose EI the operator switches between levels (multipliers of the profile's EI).
+    JsonObject v = top.object("variable_stiffness");
+    VariableStiffnessParams& vs = d.variable_stiffness;
+    vs.from_m = v.number("from_m", 0.0, 3.0);
+    vs.to_m = v.number("to_m", 0.0, 3.0);
+    if (!(vs.to_m > vs.from_m)) v.fail("to_m", "must be beyond from_m");
+    if (!(vs.to_m <= d.working_length_m + 1e-9))
+      v.fail("to_m", "must be within the working length (" + std::to_string(d.working_length_m) + " m)");
+    const nlohmann::json& levels = v.raw("levels");
+    if (!levels.is_array() || levels.size() < 2 || levels.size() > static_cast<size_t>(kStiffnessLevelsMax))
+      v.fail("levels", "expected a list of 2 to " + std::to_string(kStiffnessLevelsMax) + " EI multipliers");
+    for (size_t i = 0; i < levels.size(); ++i) {
+      if (!levels[i].is_number()) v.fail("levels", "level " + std::to_string(i) + " is not a number");
+      const double x = levels[i].get<double>();
+      if (!(x >= 0.01 && x <= 100.0))
+        v.fail("levels", "level " + std::to_string(i) + " is " + std::to_string(x) + ", expected 0.01 to 100 (an EI multiplier)");
+      vs.levels.push_back(x);
+    }
+    vs.default_level = v.integer("default_level", 0, static_cast<int>(vs.levels.size()) - 1);
+    v.ignore("source");
+    v.ignore("note");
+    v.finish();
+  }
   top.ignore("note");
   top.finish();
   return d;
@@ -89,6 +131,8 @@ void applyScopeDesign(const ScopeDesign& design, ScopeParams& params) {
   params.knob_updown_max_rad = design.knob_updown_max_rad;
   params.knob_leftright_max_rad = design.knob_leftright_max_rad;
   params.tip_light_reach_m = design.tip_light_reach_m;
+  params.active = design.active;
+  params.variable_stiffness = design.variable_stiffness;
 }
 
 }  // namespace colosim

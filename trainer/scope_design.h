@@ -37,6 +37,10 @@ struct ScopeDesign {
   double knob_leftright_max_rad = kKnobLeftRightMax_rad; ///< [rad]
   double tip_light_reach_m = 0.02;        ///< [m], ScopeParams::tip_light_reach_m
   double sheath_friction = 0.1;           ///< scope-mucosa Coulomb coefficient [-]
+  /// Optional "active": actuated joints (core/active_scope.h); enabled false without it.
+  ActiveScopeParams active;
+  /// Optional "variable_stiffness": the operator-switched section; levels empty without it.
+  VariableStiffnessParams variable_stiffness;
 };
 
 /// Reads a scope design strictly: InputError naming the file, the key and its line.

@@ -52,12 +52,13 @@ const char* const kTrainKeyHelp =
     "  R                         restart: end this session, start a new one\n"
     "  H                         call for abdominal pressure / release it (an assistant's hand)\n"
     "  T                         turn the patient: left lateral, supine, right lateral, prone\n"
+    "  F                         next stiffness level of a variable-stiffness scope (cycles)\n"
     "  Escape                    end the session: the score card\n"
     "Score card: R restart, Enter or Space the start screen, Escape or Q quit.\n"
     "Gamepad (when GLFW finds one): left stick up/down push/pull, left stick left/right\n"
     "rotation, right stick the tip knobs, right bumper 3x speed, A centres the knobs, Back\n"
     "cycles the view, Start pauses, Y restarts, B ends, X abdominal pressure, left bumper\n"
-    "turns the patient; on the screens the d-pad chooses, A\n"
+    "turns the patient, pressing the right stick switches the stiffness level; on the screens the d-pad chooses, A\n"
     "or Start confirms, B goes back. Every session is recorded without being asked\n"
     "(--record-dir, --record).";
 
@@ -157,7 +158,8 @@ void setRenderThreads(int render_threads) {
 
 
 // The screens' one-shot actions (on the press, not while held), from keys and the gamepad.
-enum Action { kUp, kDown, kLeft, kRight, kConfirm, kBack, kPause, kRestart, kQuit, kPressure, kTurn, kActionCount };
+enum Action { kUp, kDown, kLeft, kRight, kConfirm, kBack, kPause, kRestart, kQuit, kPressure, kTurn, kStiffness,
+              kActionCount };
 
 class ActionKeys {
  public:
@@ -178,6 +180,7 @@ class ActionKeys {
       if (k == GLFW_KEY_Q) pressed[kQuit] = true;
       if (k == GLFW_KEY_H) pressed[kPressure] = true;
       if (k == GLFW_KEY_T) pressed[kTurn] = true;
+      if (k == GLFW_KEY_F) pressed[kStiffness] = true;
     }
     GLFWgamepadstate pad{};
     bool have_pad = false;
@@ -194,7 +197,8 @@ class ActionKeys {
                                               button(GLFW_GAMEPAD_BUTTON_Y),
                                               false,
                                               button(GLFW_GAMEPAD_BUTTON_X),
-                                              button(GLFW_GAMEPAD_BUTTON_LEFT_BUMPER)};
+                                              button(GLFW_GAMEPAD_BUTTON_LEFT_BUMPER),
+                                              button(GLFW_GAMEPAD_BUTTON_RIGHT_THUMB)};
     for (int a = 0; a < kActionCount; ++a) pressed[a] = pressed[a] || (down[a] && !pad_was_down_[a]);
     pad_was_down_ = down;
     return pressed;
@@ -202,7 +206,7 @@ class ActionKeys {
 
  private:
   // Down at the start counts as held: a button already down does nothing.
-  std::array<bool, kActionCount> pad_was_down_{true, true, true, true, true, true, true, true, true, true, true};
+  std::array<bool, kActionCount> pad_was_down_{true, true, true, true, true, true, true, true, true, true, true, true};
 };
 
 // One recorded session: the simulation, its writer and the physics loop that steps it.
@@ -220,6 +224,7 @@ struct ActiveSession {
   PhysicsLoopResult result;
   std::string ended_by;
   AssistInput assist;  ///< what the trainee last asked for (H, T)
+  int stiffness_level = -1;  ///< the variable-stiffness level the trainee chose (F); -1: the design's default
 };
 
 // The file of the n-th session (n from 1) when --record names one: the name itself, then
@@ -567,7 +572,11 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
           screen = Screen::kSession;
         }
       } else if (screen == Screen::kSession) {
-        session->rates.set(ratesFromControls(controls));
+        if (pressed[kStiffness])  // a scope without a variable-stiffness section ignores the key
+          session->stiffness_level = nextStiffnessLevel(session->sim->model().scope, session->stiffness_level);
+        HandleRates rates = ratesFromControls(controls);
+        rates.stiffness_level = session->stiffness_level;
+        session->rates.set(rates);
         if (pressed[kPause]) session->loop->setPaused(!session->loop->paused());
         if (pressed[kPressure] || pressed[kTurn]) {
           // The assistance goes into the session as an assist line at the next step.

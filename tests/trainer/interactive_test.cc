@@ -223,6 +223,61 @@ TEST(PhysicsLoop, HeadlessWorldSessionReplaysBitIdentically) {
   EXPECT_NE(start.stateHash(), recorded.final_state_hash);
 }
 
+// A variable-stiffness scope (issue 20) whose level the operator switches (key F: the
+// rates name the level from step 300 on): the session records the level and replays
+// bit-identically; without the switch the run ends elsewhere.
+TEST(PhysicsLoop, StiffnessLevelIsRecordedAndReplaysBitIdentically) {
+  test::TempDir dir;
+  // The shipped variable-stiffness design with its section over the whole tube (so that
+  // the inserted part changes), and free_insertion naming it.
+  nlohmann::json design = nlohmann::json::parse(test::readFile(std::string(COLOSIM_ASSET_DIR) + "/scopes/variable_stiffness.json"));
+  design["variable_stiffness"]["from_m"] = 0.0;
+  const std::string design_path = dir.write("vs.json", design.dump(2));
+  nlohmann::json scen = nlohmann::json::parse(test::readFile(std::string(COLOSIM_ASSET_DIR) + "/scenarios/free_insertion.json"));
+  scen["anatomy"] = std::string(COLOSIM_ASSET_DIR) + "/" + scen["anatomy"].get<std::string>();
+  scen["params"] = std::string(COLOSIM_ASSET_DIR) + "/" + scen["params"].get<std::string>();
+  scen["scope"] = design_path;
+  const Scenario sc = loadScenario(dir.write("vs_scenario.json", scen.dump(2)));
+  auto record = [&](const std::string& path, bool switch_level) {
+    WorldSimulation sim(sc);
+    EXPECT_EQ(sim.model().scope.params.variable_stiffness.levels.size(), 4u);
+    SessionHeader header = sessionHeaderFor(sc, "test");
+    header.mode = "interactive";
+    SessionWriter writer(path, header);
+    const HandleLimits lim = handleLimitsOf(sim.model().scope);
+    int level = -1;
+    InputSource source = [&](long step, const HandleInput& prev) {
+      HandleRates rates = scriptedRates(step);
+      // Three presses of F: levels 1, 2, 3 (from the default 0).
+      if (switch_level && (step == 300 || step == 301 || step == 302)) level = nextStiffnessLevel(sim.model().scope, level);
+      rates.stiffness_level = level;
+      return integrateHandle(prev, rates, sc.dt_s, lim);
+    };
+    PhysicsLoopOptions opt;
+    opt.real_time = false;
+    opt.max_steps = 1200;
+    PhysicsLoop loop(sim, sc.scoring, &writer, source, opt);
+    loop.run();
+    EXPECT_EQ(level, switch_level ? 3 : -1);
+    return loop.finish();
+  };
+  const std::string path = dir.file("vs.jsonl");
+  const PhysicsLoopResult recorded = record(path, true);
+  const PhysicsLoopResult plain = record(dir.file("plain.jsonl"), false);
+  EXPECT_NE(recorded.final_state_hash, plain.final_state_hash);
+  EXPECT_NE(test::readFile(path).find("\"stiffness_level\":3"), std::string::npos);
+  EXPECT_EQ(test::readFile(dir.file("plain.jsonl")).find("stiffness_level"), std::string::npos);
+
+  const ReplayPlan plan = planReplay(path);
+  ASSERT_TRUE(plan.session.complete);
+  EXPECT_EQ(plan.session.inputs.back().input.stiffness_level, 3);
+  WorldSimulation again(plan.scenario);
+  const ReplayResult r = replay(plan, again);
+  EXPECT_TRUE(r.hashOk()) << r.mismatch;
+  EXPECT_TRUE(r.final_hash_checked);
+  EXPECT_EQ(r.final_state_hash, recorded.final_state_hash);
+}
+
 TEST(PhysicsLoop, RatesChangedFromAnotherThreadAreRecordedAsUsed) {
   // The controls change at random moments on another thread while the loop runs in real
   // time: whatever each step used is what the session holds, so the replay matches.

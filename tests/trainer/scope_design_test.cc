@@ -84,6 +84,48 @@ TEST(ScopeDesign, BadFilesAreRefusedNamingKeyAndLine) {
   expectError(standardWith("\"value\": 0.0125", "\"value\": NaN"), {"bad.json"});
 }
 
+// The active and variable-stiffness designs (issue 20): the optional blocks read into the
+// scope's parameters, strictly.
+TEST(ScopeDesign, ActiveAndVariableStiffnessBlocks) {
+  const ScopeDesign ftl = loadScopeDesign(test::asset("scopes/follow_the_leader.json"));
+  EXPECT_TRUE(ftl.active.enabled);
+  EXPECT_EQ(ftl.active.strategy, ActiveStrategy::kFollowTheLeader);
+  EXPECT_EQ(ftl.active.joint_torque_limit_Nm, 0.5);
+  EXPECT_EQ(ftl.active.time_constant_s, 0.2);
+  EXPECT_EQ(ftl.active.actuated_length_m, 0.8);
+  const ScopeDesign cm = loadScopeDesign(test::asset("scopes/contact_minimising.json"));
+  EXPECT_EQ(cm.active.strategy, ActiveStrategy::kContactMinimising);
+  const ScopeDesign vs = loadScopeDesign(test::asset("scopes/variable_stiffness.json"));
+  EXPECT_FALSE(vs.active.enabled);
+  EXPECT_EQ(vs.variable_stiffness.levels, (std::vector<double>{1.0, 1.5, 2.0, 2.5}));
+  EXPECT_EQ(vs.variable_stiffness.from_m, 0.3);
+  EXPECT_EQ(vs.variable_stiffness.default_level, 0);
+  ScopeParams p;
+  applyScopeDesign(vs, p);
+  EXPECT_EQ(p.variable_stiffness.levels.size(), 4u);
+  const ScopeDesign hf = loadScopeDesign(test::asset("scopes/hyper_flaccid.json"));
+  ASSERT_EQ(hf.stiffness_profile.size(), 3u);
+  EXPECT_EQ(hf.stiffness_profile[1].bending_stiffness_Nm2, 0.005);
+  EXPECT_TRUE(loadScopeDesign(test::asset("scopes/standard.json")).variable_stiffness.levels.empty());
+
+  const std::string ftl_text = test::readFile(test::asset("scopes/follow_the_leader.json"));
+  auto with = [&](const std::string& text, const std::string& from, const std::string& to) {
+    std::string t = text;
+    const auto pos = t.find(from);
+    EXPECT_NE(pos, std::string::npos) << from;
+    return t.replace(pos, from.size(), to);
+  };
+  expectError(with(ftl_text, "\"strategy\": \"follow_the_leader\"", "\"strategy\": \"follow_the_lead\""),
+              {"bad.json:", "active.strategy"});
+  expectError(with(ftl_text, "\"time_constant_s\": 0.2", "\"time_constant_s\": 0"), {"active.time_constant_s"});
+  expectError(with(ftl_text, "\"actuated_length_m\": 0.8", "\"actuated_length_m\": 2.5"), {"active.actuated_length_m", "working length"});
+  expectError(with(ftl_text, "\"strategy\"", "\"strategie\": 1, \"strategy\""), {"strategie"});
+  const std::string vs_text = test::readFile(test::asset("scopes/variable_stiffness.json"));
+  expectError(with(vs_text, "\"default_level\": 0", "\"default_level\": 4"), {"variable_stiffness.default_level"});
+  expectError(with(vs_text, "\"from_m\": 0.3", "\"from_m\": 1.7"), {"variable_stiffness.to_m"});
+  expectError(with(vs_text, "1.5,", "-1.5,"), {"variable_stiffness.levels"});
+}
+
 // A design given for the run is used (its sheath friction too) and sessions record it.
 TEST(ScopeDesign, AScenarioRunsWithTheDesignItIsGiven) {
   Scenario sc = findScenario("sigmoid_push");

@@ -11,6 +11,7 @@
 #include "fake_simulation.h"
 #include "fixture.h"
 #include "session_fixture.h"
+#include "trainer/handle_io.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
 #include "trainer/strict_json.h"
@@ -86,6 +87,39 @@ TEST(Session, RoundTripReconstructsEveryStepsInput) {
   ASSERT_EQ(s.checkpoints.size(), 2u);
   EXPECT_EQ(s.checkpoints[0].step, 100);
   EXPECT_EQ(s.checkpoints[1].step, 200);
+}
+
+// The stiffness level of a variable-stiffness scope (issue 20): optional in input lines,
+// written only when chosen, held (not interpolated) between keyframes.
+TEST(Session, StiffnessLevelIsOptionalAndHeld) {
+  const nlohmann::json old_line = nlohmann::json::parse(
+      R"({"insertion_m":0.1,"rotation_rad":0.0,"knob_updown_rad":0.0,"knob_leftright_rad":0.0})");
+  JsonObject o(old_line, "old.jsonl:2");
+  EXPECT_EQ(readHandleInput(o).stiffness_level, -1);  // an old line: the design's default
+  HandleInput in;
+  nlohmann::json j;
+  writeHandleInput(j, in);
+  EXPECT_FALSE(j.contains("stiffness_level"));  // the default is not written: old files' bytes
+  in.stiffness_level = 2;
+  writeHandleInput(j, in);
+  JsonObject back(j, "new.jsonl:2");
+  EXPECT_EQ(readHandleInput(back).stiffness_level, 2);
+  EXPECT_FALSE(sameInput(in, HandleInput()));
+  j["stiffness_level"] = 16;
+  JsonObject bad(j, "bad.jsonl:3");
+  EXPECT_THROW(readHandleInput(bad), InputError);
+  j["stiffness_level"] = 1.5;
+  JsonObject frac(j, "bad.jsonl:4");
+  EXPECT_THROW(readHandleInput(frac), InputError);
+  // Scripts hold the level of the keyframe before t.
+  std::vector<Keyframe> script(2);
+  script[1].t_s = 2.0;
+  script[0].input.stiffness_level = 1;
+  script[1].input.stiffness_level = 3;
+  script[1].input.insertion_m = 0.2;
+  EXPECT_EQ(scriptedInput(script, 1.999).stiffness_level, 1);
+  EXPECT_GT(scriptedInput(script, 1.999).insertion_m, 0.19);
+  EXPECT_EQ(scriptedInput(script, 2.0).stiffness_level, 3);
 }
 
 TEST(Session, WrittenAsItGoesAndFlushedEverySecond) {

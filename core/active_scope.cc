@@ -1,0 +1,105 @@
+#include "core/active_scope.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/rotation.h"
+
+namespace colosim {
+
+namespace {
+
+// The bending stiffness K_b = EI/h of joint k [N m/rad].
+double bendingStiffness(const ScopeModel& m, int k) { return m.joint_stiffness_Nm_per_rad[k].x(); }
+
+Vec3 bendingOnly(Vec3 v) {
+  v.z() = 0;
+  return v;
+}
+
+}  // namespace
+
+Vec3 actuatorLag(const Vec3& rest, const Vec3& target, double dt, double tau) {
+  return rest + (1.0 - std::exp(-dt / tau)) * (target - rest);
+}
+
+Vec3 limitActuatorMoment(const Vec3& rest, const Vec3& omega, double kb, double limit) {
+  Vec3 d = bendingOnly(rest - omega);
+  const double moment = kb * d.norm();
+  if (moment > limit) d *= limit / moment;
+  Vec3 out = omega + d;
+  out.z() = 0;
+  return out;
+}
+
+double actuatorMoment(const ScopeModel& m, const ScopeState& s, int k) {
+  const Vec3 omega = logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]);
+  return bendingStiffness(m, k) * bendingOnly(s.joint_rest_rad[k] - omega).norm();
+}
+
+Vec3 leadBend(const ScopeState& s, double x) {
+  x = std::clamp(x, 0.0, static_cast<double>(s.lead_count - 1));
+  const int i = std::min(static_cast<int>(std::floor(x)), s.lead_count - 1);
+  if (i + 1 >= s.lead_count) return s.lead_bend_rad[i];
+  const double f = x - i;
+  return (1 - f) * s.lead_bend_rad[i] + f * s.lead_bend_rad[i + 1];
+}
+
+Vec3 followTheLeaderTarget(const ScopeModel& m, const ScopeState& s, int k, double insertion_m) {
+  // Joint k lies at depth L - (k+1) h from the anus; joint 0 was there when the insertion was L - k h.
+  return bendingOnly(leadBend(s, insertion_m / m.h_m - k));
+}
+
+Vec3 contactMinimisingTarget(const ScopeModel& m, const ScopeState& s, int k) {
+  const int n = m.params.active.contact_neighbours;
+  const Vec3 joint_W = s.p_W[k] - 0.5 * m.h_m * s.R_WS[k].col(2);  // the joint: segment k's proximal end
+  Vec3 yield_W = Vec3::Zero();  // M_d - M_p
+  for (const ScopeLoad& load : s.loads) {
+    const int j = load.segment;
+    if (j < k - n + 1 || j > k + n) continue;
+    const Vec3 moment = (s.p_W[j] + load.r_W - joint_W).cross(load.force_N);
+    yield_W += (j <= k) ? moment : Vec3(-moment);
+  }
+  const ActiveScopeParams& a = m.params.active;
+  const Vec3 yield = bendingOnly(s.R_WS[k + 1].transpose() * yield_W);
+  const Vec3& rest = s.joint_rest_rad[k];
+  return rest + (a.contact_gain / bendingStiffness(m, k)) * yield - (a.time_constant_s / a.contact_relax_s) * rest;
+}
+
+void recordLead(const ScopeModel& m, ScopeState& s, double previous_insertion_m) {
+  const double h = m.h_m, L = s.input.insertion_m;
+  const int last = std::min(static_cast<int>(s.lead_bend_rad.size()) - 1, static_cast<int>(std::floor(L / h + 1e-9)));
+  const int first_new = std::max(1, static_cast<int>(std::floor(previous_insertion_m / h + 1e-9)) + 1);
+  // Passed going in: the tip joint's bend now (the knobs').
+  const Vec3 bend = restJointRotation(m, 0, s.input);
+  for (int j = first_new; j <= last && j <= s.lead_count; ++j) {
+    s.lead_bend_rad[j] = bend;
+    s.lead_count = std::max(s.lead_count, j + 1);
+  }
+  // Missing below the insertion: the shaft's own bend where joint 0 was then (joint L/h - j).
+  for (int j = s.lead_count; j <= last; ++j) {
+    const int k = std::clamp(static_cast<int>(std::lround(L / h - j)), 0, m.segment_count - 2);
+    s.lead_bend_rad[j] = bendingOnly(logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]));
+    s.lead_count = j + 1;
+  }
+}
+
+void updateActiveScope(const ScopeModel& m, ScopeState& s, double previous_insertion_m, double dt) {
+  if (m.actuated_joints == 0 || s.joint_rest_rad.empty()) return;
+  const ActiveScopeParams& a = m.params.active;
+  recordLead(m, s, previous_insertion_m);
+  for (int k = m.first_actuated_joint; k < m.actuated_joints; ++k) {
+    if (k >= s.inside) {  // outside: straight along the entry
+      s.joint_rest_rad[k].setZero();
+      continue;
+    }
+    const Vec3 target = a.strategy == ActiveStrategy::kFollowTheLeader
+                            ? followTheLeaderTarget(m, s, k, s.input.insertion_m)
+                            : contactMinimisingTarget(m, s, k);
+    const Vec3 omega = logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]);
+    s.joint_rest_rad[k] = limitActuatorMoment(actuatorLag(s.joint_rest_rad[k], target, dt, a.time_constant_s), omega,
+                                              bendingStiffness(m, k), a.joint_torque_limit_Nm);
+  }
+}
+
+}  // namespace colosim
