@@ -134,7 +134,9 @@ long runLumenFollowing(Scenario& sc, WorldSimulation& sim, double from_s, double
   for (double t = from_s; t < end_s - 1e-9; t += options.key_dt_s) {
     const HandleInput cur = sc.script.back().input;
     if (hooks.on_decision) hooks.on_decision(t, cur);
-    const Keyframe kf = controller.next(sim, t, cur, hooks.log);
+    Keyframe kf = controller.next(sim, t, cur, hooks.log);
+    if (options.stiffness_level >= 0 && kf.t_s >= options.stiffen_from_s)
+      kf.input.stiffness_level = options.stiffness_level;
     sc.script.push_back(kf);
     stepUntil(hooks.step_to_last_keyframe ? kf.t_s : std::min(kf.t_s, end_s));
   }

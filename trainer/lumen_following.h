@@ -29,6 +29,10 @@ struct LumenFollowingOptions {
   double pull_max_N = 1e9;        ///< the withdrawal pauses while the handle pulls harder [N]
   double done_m = 0.025;          ///< insertion stops once the tip is this close to the caecal pole [m]
   double max_knob_change_rad = 0.4;  ///< largest knob change per keyframe [rad]
+  /// The operator stiffens a variable-stiffness scope to this level from stiffen_from_s on
+  /// (HandleInput::stiffness_level); -1: the level in force is kept.
+  int stiffness_level = -1;
+  double stiffen_from_s = 0.0;    ///< [s]
 };
 
 /// Decides keyframes from the state. Call next() at t0, t0 + key_dt_s, ... with the

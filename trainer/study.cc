@@ -71,6 +71,11 @@ Study studyFromJson(const nlohmann::json& j, const std::string& path) {
     }
     if (d.has("shaft_bending_stiffness_Nm2"))
       sd.shaft_bending_stiffness_Nm2 = d.number("shaft_bending_stiffness_Nm2", 1e-4, 10.0);
+    if (d.has("stiffness_level")) sd.stiffness_level = d.integer("stiffness_level", 0, 100);
+    if (d.has("stiffen_from_s")) {
+      if (!sd.stiffness_level) d.fail("stiffen_from_s", "needs a stiffness_level");
+      sd.stiffen_from_s = d.number("stiffen_from_s", 0.0, 1e5);
+    }
     d.ignore("note");
     d.finish();
     s.designs.push_back(sd);
@@ -233,6 +238,20 @@ Scenario caseScenario(const Study& study, const StudyCase& c) {
   Scenario sc = findScenario(study.scenarios[c.scenario]);
   const StudyDesign& design = study.designs[c.design];
   if (!design.scope_path.empty()) useScopeDesign(sc, design.scope_path);
+  if (design.stiffness_level) {
+    // The operator's stiffening: a keyframe at stiffen_from_s (the inputs in force then),
+    // and the level held on every keyframe from there.
+    const double t0 = design.stiffen_from_s;
+    const auto at = std::find_if(sc.script.begin(), sc.script.end(), [t0](const Keyframe& k) { return k.t_s >= t0; });
+    if (at == sc.script.end() || at->t_s != t0) {
+      Keyframe k;
+      k.t_s = t0;
+      k.input = scriptedInput(sc.script, t0);
+      sc.script.insert(at, k);
+    }
+    for (Keyframe& k : sc.script)
+      if (k.t_s >= t0) k.input.stiffness_level = *design.stiffness_level;
+  }
   const SeedVariant v = seedVariant(study.seeds[c.seed]);
   if (v.operator_speed != 1.0) {
     // The operator's pace: the script after the scored start runs operator_speed times
@@ -285,6 +304,10 @@ CaseResult runStudyCase(const Study& study, const StudyCase& c, const std::funct
     Scorer scorer(sc.scoring);
     LumenFollowingOptions o;
     o.speed_m_per_s *= seedVariant(study.seeds[c.seed]).operator_speed;
+    if (study.designs[c.design].stiffness_level) {
+      o.stiffness_level = *study.designs[c.design].stiffness_level;
+      o.stiffen_from_s = study.designs[c.design].stiffen_from_s;
+    }
     LumenFollowingHooks hooks;
     hooks.on_step = [&](const WorldSimulation& s) {
       const Telemetry t = s.telemetry();

@@ -25,6 +25,11 @@ struct StudyDesign {
   std::string scope_path;  ///< resolved path ("" when scope is "")
   /// Optional: the shaft's bending stiffness EI, uniform along the length [N m^2].
   std::optional<double> shaft_bending_stiffness_Nm2;
+  /// Optional: the operator stiffens a variable-stiffness design to this level
+  /// (HandleInput::stiffness_level) from stiffen_from_s of the scenario's clock on (in the
+  /// scripted manoeuvre's time, before a seed's time-warp). Empty: the design's default level.
+  std::optional<int> stiffness_level;
+  double stiffen_from_s = 0.0;  ///< [s]
 };
 
 /// A driving strategy: "scripted" (the scenario's script) or "lumen_following" (the
