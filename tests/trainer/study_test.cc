@@ -79,6 +79,8 @@ TEST(StudyFile, BadKeysAndValuesNameFileKeyAndLine) {
       {"colosim-study", "colosim-scenario", "format"},
       {"\"duration_s\": ", "\"duration_s\": -", "duration_s"},
       {"scopes/standard.json", "scopes/none.json", "designs[0].scope"},
+      {"\"shaft_bending_stiffness_Nm2\": 0.06", "\"stiffen_from_s\": 12", "designs[1].stiffen_from_s"},
+      {"\"shaft_bending_stiffness_Nm2\": 0.06", "\"stiffness_level\": -1", "designs[1].stiffness_level"},
   };
   for (const Bad& b : bad) {
     std::string text = tinyStudyText();
