@@ -112,7 +112,7 @@ void addTrainCommand(CLI::App& app, Action& action) {
       ->check(CLI::IsMember({"onboard", "global", "both"}))
       ->capture_default_str();
   cmd->add_option("--size", o->size, "window size WxH [px]")->capture_default_str();
-  cmd->add_option("--quit-after", w.quit_after_s, "end the session after this many wall seconds (tests, demos)")
+  cmd->add_option("--quit-after", w.quit_after_s, "end the session this many wall seconds after the first frame (tests, demos)")
       ->check(CLI::Range(0.0, 1e6));
   cmd->add_flag("--autopilot", w.autopilot, "the handle follows the scenario's script instead of the controls");
   cmd->add_option("--render-threads", w.render_threads,

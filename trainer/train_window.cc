@@ -501,6 +501,7 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
   std::string gamepad_name;
   Snapshot snap;
   const auto start = std::chrono::steady_clock::now();
+  auto first_shown = start;  // when the first frame was shown (set in the loop)
   std::vector<double> frame_ms;
   ShownRates shown;
   shown.since = start;
@@ -626,7 +627,10 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
         screen = Screen::kSession;
       }
       const auto now = std::chrono::steady_clock::now();
-      if (o.quit_after_s >= 0 && std::chrono::duration<double>(now - start).count() >= o.quit_after_s) {
+      // --quit-after counts from the first frame shown: start-up (the first frame's shader
+      // compilation, seconds under the sanitizers on a loaded machine) is not session time.
+      if (out.frames == 0) first_shown = now;
+      if (o.quit_after_s >= 0 && std::chrono::duration<double>(now - first_shown).count() >= o.quit_after_s) {
         quit = true;
         quit_reason = "quit_after";
       }

@@ -28,7 +28,7 @@ struct TrainWindowOptions {
   std::string record;
   std::string record_dir = "sessions";
   std::string view = "both";             ///< at the start: onboard, global or both
-  double quit_after_s = -1;              ///< wall seconds; negative: until the window closes
+  double quit_after_s = -1;              ///< wall seconds from the first frame shown; negative: until the window closes
   bool autopilot = false;                ///< the handle follows the scenario's script
   int render_threads = -1;               ///< LP_NUM_THREADS for llvmpipe; 0: Mesa's default; -1: cores - 1
   double render_scale = 0.7;             ///< onboard view drawn at this fraction of its size (render/camera.h)
