@@ -22,12 +22,11 @@
 #include "trainer/scenario.h"
 #include "trainer/score.h"
 #include "trainer/world_simulation.h"
+#include "core/numbers.h"
 
 namespace colosim {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The cyclic use, period 60 s [SI]: the scope pushed from 5 cm to 65 cm at 2.4 cm/s
 // (25 s), held 5 s, withdrawn at the same pace, held 5 s; the handle rolled +-1.2 rad

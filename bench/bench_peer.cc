@@ -17,6 +17,7 @@
 #include "collision/contact_query.h"
 #include "core/scope_step.h"
 #include "trainer/assets.h"
+#include "core/numbers.h"
 
 #ifdef COLOSIM_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
@@ -50,8 +51,6 @@ BenchOutput benchPeer(const PeerOptions&) {
 #else
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The script, the same for both: the tip from 0.30 m to 0.45 m through the rectum and
 // sigmoid at 1.5 cm/s (a brisk clinical advance), its speed ramped up over the first
@@ -329,11 +328,6 @@ Vec3 peerTip(const Peer& p) {
   const int site = 0;
   const double* x = p.data->site_xpos + 3 * site;
   return Vec3(x[0], x[1], x[2]);
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bench/registry.h"
+#include "bench/timing.h"
 #include "render/offscreen_context.h"
 #include "render/renderer.h"
 #include "trainer/assets.h"
@@ -25,11 +26,6 @@ double processCpuMs() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 // The scope along the colon's centreline from the anus to rest arclength tip_s_m, and the

@@ -22,6 +22,12 @@ inline double threadCpuSeconds() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
+/// The median of v (the upper one of an even count).
+inline double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 /// Medians over `blocks` blocks of `reps` calls of f.
 inline BlockTiming timeBlocks(int blocks, int reps, const std::function<void()>& f) {
   std::vector<double> wall, cpu;
@@ -34,10 +40,6 @@ inline BlockTiming timeBlocks(int blocks, int reps, const std::function<void()>&
     wall.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / reps);
     cpu.push_back(1e6 * (c1 - c0) / reps);
   }
-  auto median = [](std::vector<double>& v) {
-    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-    return v[v.size() / 2];
-  };
   return {median(wall), median(cpu)};
 }
 

@@ -6,12 +6,9 @@
 #include <stdexcept>
 
 #include "render/frames.h"
+#include "core/numbers.h"
 
 namespace colosim {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
 
 CameraPose lookAlong(const Vec3& position_m, const Vec3& forward, const Vec3& up_hint) {
   const Vec3 f = forward.normalized();

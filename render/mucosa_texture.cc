@@ -1,4 +1,5 @@
 #include "render/mucosa_texture.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,8 +9,6 @@
 namespace colosim {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Periodic value noise: a lattice of `cells` x `cells` random values, smoothly
 // interpolated, wrapping at the edges so the texture tiles.

@@ -1,4 +1,5 @@
 #include "render/renderer.h"
+#include "core/numbers.h"
 
 #include <glad/gl.h>
 
@@ -11,7 +12,6 @@ namespace colosim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Display colour of red-out where the lens in the tissue sees no wall surface (the
 // shader's kRedoutAlbedo at a few mm, tone mapped).
 constexpr float kRedoutClear[3] = {0.62f, 0.13f, 0.09f};

@@ -1,4 +1,5 @@
 #include "render/tube_mesh.h"
+#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@ namespace colosim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Fraction of the distance to a neighbouring ring's plane a vertex may reach (see
 // buildColonMesh): below 1 so consecutive rings stay apart by a margin.
 constexpr double kRingPlaneReach = 0.95;

@@ -72,4 +72,11 @@ inline CommandOutput runCommandWithStderr(const std::string& command_line, const
   return r;
 }
 
+#ifdef COLOSIM_EXE
+/// Runs the colosim command (the target's COLOSIM_EXE) with `args`, stderr captured in `dir`.
+inline CommandOutput runColosim(const std::string& args, const TempDir& dir) {
+  return runCommandWithStderr(std::string(COLOSIM_EXE) + " " + args, dir);
+}
+#endif
+
 }  // namespace colosim::test

@@ -19,12 +19,12 @@
 #include "trainer/json_position.h"
 #include "trainer/scenario.h"
 #include "trainer/start_state.h"
+#include "core/numbers.h"
 
 namespace colosim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Onboard optics for the view measures: half of the ~140 deg diagonal field of view,
 // and how far the tip light shows the wall usefully (the scores' "within 5 cm").
 constexpr double kHalfFieldOfView_rad = 70.0 * kPi / 180.0;

@@ -397,7 +397,7 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
   return buf;
 }
 
-std::string join(const std::vector<std::string>& v) {
+std::string joinOrNone(const std::vector<std::string>& v) {
   std::string s;
   for (const std::string& x : v) s += (s.empty() ? "" : " + ") + x;
   return s.empty() ? "none" : s;
@@ -566,14 +566,14 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
         s += "Round 2: every pair of effects, against " + (first != r.evidence.end() ? first->effect : "none") + "\n";
       } else
         s += fmt("Round %.0f: candidates added to ", round) +
-             join(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
+             joinOrNone(std::vector<std::string>(e.model.begin(), e.model.end() - 1)) + "\n";
     }
-    s += "  " + (e.round == 2 ? join(e.model) : e.effect) + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
+    s += "  " + (e.round == 2 ? joinOrNone(e.model) : e.effect) + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
          fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) +
          (e.signature_rmse_N >= 0 ? fmt(", toe of the reloadings %.4f N", e.signature_rmse_N) : "") + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
   }
   if (!r.refuted_effects.empty()) {
-    s += "Cause: none. The selection chose " + join(r.refuted_effects) +
+    s += "Cause: none. The selection chose " + joinOrNone(r.refuted_effects) +
          fmt(" on its working set, but refitted on every row its held-out gain is %.3f (<= 1): ",
              r.refuted_heldout_rmse_ratio) +
          "not a cause. No effect is named; the Voigt law is reported.\n";
@@ -582,7 +582,7 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
          fmt("%.0f %% and BIC lowered by %.0f): ", 100 * (o.min_heldout_ratio - 1), -o.max_delta_bic) +
          "the Voigt law explains the data to the noise.\n";
   } else {
-    s += "Cause: " + join(r.effects) + ".\n";
+    s += "Cause: " + joinOrNone(r.effects) + ".\n";
     s += "Extended law:";
     for (const ParamEstimate& p : r.extended.params) s += " " + p.name + fmt(" = %.4g +- %.2g", p.value, p.sd) + " " + p.unit + ";";
     s += "\n" + fmt("Gain: held-out RMSE %.4f N -> %.4f N, ratio %.2f.\n", r.baseline.heldout_rmse_N,

@@ -10,10 +10,6 @@ namespace colosim {
 
 namespace {
 
-double uniform(std::mt19937_64& rng, double a, double b) {
-  return a + (b - a) * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
-}
-
 // Rounds to 1 / per_unit (per_unit a power of ten): the value the file's decimals hold.
 double roundTo(double x, double per_unit) { return std::round(x * per_unit) / per_unit; }
 
@@ -46,15 +42,19 @@ Command command(const SyntheticSpec& s) {
 
 double protocolDuration(const SyntheticSpec& s) { return command(s).t.back(); }
 
+double uniformDraw(std::mt19937_64& rng, double a, double b) {
+  return a + (b - a) * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+}
+
 SyntheticSpec drawSyntheticSpec(uint64_t seed, const SyntheticDraw& draw) {
   std::mt19937_64 rng(seed);
   SyntheticSpec s;
   s.seed = seed;
   s.nominal_dt_s = draw.nominal_dt_s;
-  s.sample_length_m = uniform(rng, 0.16, 0.20);
+  s.sample_length_m = uniformDraw(rng, 0.16, 0.20);
   if (draw.sample_length_m > 0) s.sample_length_m = draw.sample_length_m;
-  const double emax = draw.max_elongation_m > 0 ? draw.max_elongation_m : uniform(rng, 0.09, 0.12);
-  const double fmax = draw.max_force_N > 0 ? draw.max_force_N : uniform(rng, 8.0, 13.0);
+  const double emax = draw.max_elongation_m > 0 ? draw.max_elongation_m : uniformDraw(rng, 0.09, 0.12);
+  const double fmax = draw.max_force_N > 0 ? draw.max_force_N : uniformDraw(rng, 8.0, 13.0);
   const double smax = emax / s.sample_length_m;
 
   // Protocol: cycles of growing then varied amplitude, each a ramp up at one of three
@@ -64,32 +64,32 @@ SyntheticSpec drawSyntheticSpec(uint64_t seed, const SyntheticDraw& draw) {
     double amp = emax;
     if (c == 0) amp = 0.5 * emax;
     else if (c == 1) amp = 0.75 * emax;
-    else if (c % 3 == 0) amp = uniform(rng, 0.6, 0.9) * emax;
+    else if (c % 3 == 0) amp = uniformDraw(rng, 0.6, 0.9) * emax;
     const double up = speeds[std::uniform_int_distribution<int>(0, 2)(rng)];
     const double down = speeds[std::uniform_int_distribution<int>(0, 2)(rng)];
     s.protocol.push_back({amp, up, 0});
-    s.protocol.push_back({0, 0, uniform(rng, 15.0, 35.0)});
-    s.protocol.push_back({-uniform(rng, 0.0, 3e-3), down, 0});
-    s.protocol.push_back({0, 0, uniform(rng, 3.0, 8.0)});
+    s.protocol.push_back({0, 0, uniformDraw(rng, 15.0, 35.0)});
+    s.protocol.push_back({-uniformDraw(rng, 0.0, 3e-3), down, 0});
+    s.protocol.push_back({0, 0, uniformDraw(rng, 3.0, 8.0)});
   }
-  s.actuator_tau_s = uniform(rng, 0.1, 0.3);
+  s.actuator_tau_s = uniformDraw(rng, 0.1, 0.3);
   s.jitter = 0.05;
-  s.offset_N = uniform(rng, -0.15, 0.15);
-  s.white_sd_N = uniform(rng, 0.02, 0.05);
-  s.coloured_sd_N = uniform(rng, 0.2, 0.5) * s.white_sd_N;
+  s.offset_N = uniformDraw(rng, -0.15, 0.15);
+  s.white_sd_N = uniformDraw(rng, 0.02, 0.05);
+  s.coloured_sd_N = uniformDraw(rng, 0.2, 0.5) * s.white_sd_N;
   s.coloured_phi = 0.9;
 
   ExtendedLawParams& p = s.truth;
   for (const std::string& e : draw.effects) p.enable(e);
-  p.ec_Ns = uniform(rng, 0.02, 0.1);
+  p.ec_Ns = uniformDraw(rng, 0.02, 0.1);
   // Effect parameters (always drawn, so that the seed gives the same protocol and noise
   // whatever the effects).
-  const double b = uniform(rng, 1.5, 3.5);             // Fung exponent (Dou 2006, Terry 2014)
-  const double g1 = uniform(rng, 0.4, 0.55);           // relaxing fraction: 20-30 % by 10 s,
-  const double tau1 = uniform(rng, 8.0, 15.0);         // ~50 % by 300 s (Yang, Fung 2006)
-  const double d_inf = uniform(rng, 0.15, 0.35);       // preconditioning, equilibrium after
-  const double cycles_to_eq = uniform(rng, 10.0, 16.0);  // ~13 cycles (Terry 2014)
-  const double set = uniform(rng, 0.06, 0.15);
+  const double b = uniformDraw(rng, 1.5, 3.5);             // Fung exponent (Dou 2006, Terry 2014)
+  const double g1 = uniformDraw(rng, 0.4, 0.55);           // relaxing fraction: 20-30 % by 10 s,
+  const double tau1 = uniformDraw(rng, 8.0, 15.0);         // ~50 % by 300 s (Yang, Fung 2006)
+  const double d_inf = uniformDraw(rng, 0.15, 0.35);       // preconditioning, equilibrium after
+  const double cycles_to_eq = uniformDraw(rng, 10.0, 16.0);  // ~13 cycles (Terry 2014)
+  const double set = uniformDraw(rng, 0.06, 0.15);
   if (p.strain_stiffening) p.fung_b = b;
   if (p.stress_relaxation) p.relax_g1 = g1, p.relax_tau1_s = tau1;
   if (p.cyclic_softening) p.soften_d_inf = d_inf, p.soften_a_c = cycles_to_eq * 0.9 * smax / 4.0;
@@ -152,7 +152,7 @@ TensionTest generateTensionTest(const SyntheticSpec& s) {
     t.time_s.push_back(roundTo(time, 1e4));
     t.elongation_m.push_back(roundTo(e, 1e6));
     t.force_N.push_back(roundTo(meas, 1e4));
-    time += s.nominal_dt_s * (1 + s.jitter * (2 * uniform(rng, 0, 1) - 1));
+    time += s.nominal_dt_s * (1 + s.jitter * (2 * uniformDraw(rng, 0, 1) - 1));
   }
   return t;
 }

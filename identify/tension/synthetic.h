@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,9 @@ struct SyntheticDraw {
 
 /// Draws a spec (protocol, law parameters, noise) from physiological ranges.
 SyntheticSpec drawSyntheticSpec(uint64_t seed, const SyntheticDraw& draw);
+
+/// A draw uniform in [a, b) (the synthetic generators' one way of drawing).
+double uniformDraw(std::mt19937_64& rng, double a, double b);
 
 /// Runs the bench: the true law on a 5 ms grid through evaluate()/advance(), sampled at
 /// the irregular times, plus offset and noise, rounded as the file stores it.

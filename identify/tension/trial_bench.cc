@@ -1,5 +1,7 @@
 #include "identify/tension/trial_bench.h"
 
+#include "identify/tension/synthetic.h"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -8,10 +10,6 @@
 namespace colosim {
 
 namespace {
-
-double uniform(std::mt19937_64& rng, double a, double b) {
-  return a + (b - a) * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
-}
 
 bool has(const TrialSpec& s, const char* effect) {
   return std::find(s.effects.begin(), s.effects.end(), effect) != s.effects.end();
@@ -41,10 +39,10 @@ Knots protocol(const TrialSpec& s, std::mt19937_64& rng) {
   Knots k;
   k.t = {0.0};
   k.e = {0.0};
-  k.hold(uniform(rng, 1.0, 3.0));
+  k.hold(uniformDraw(rng, 1.0, 3.0));
   const double top = s.max_strain * s.sample_length_m;  // [m]
-  auto holdS = [&] { return uniform(rng, 5.0, 15.0); };
-  auto slack = [&] { return -uniform(rng, 0.0, 2e-3); };
+  auto holdS = [&] { return uniformDraw(rng, 5.0, 15.0); };
+  auto slack = [&] { return -uniformDraw(rng, 0.0, 2e-3); };
   if (s.protocol == "staircase") {
     // Up in n steps at the slow rate, down in n/2 steps, slack, up again at the fast rate.
     const int n = std::uniform_int_distribution<int>(4, 6)(rng);
@@ -52,7 +50,7 @@ Knots protocol(const TrialSpec& s, std::mt19937_64& rng) {
     const int m = n / 2;
     for (int i = m - 1; i >= 1; --i) k.rampTo(top * i / m, s.slow_speed_m_per_s), k.hold(holdS());
     k.rampTo(slack(), s.slow_speed_m_per_s);
-    k.hold(uniform(rng, 2.0, 5.0));
+    k.hold(uniformDraw(rng, 2.0, 5.0));
     for (int i = 1; i <= n; ++i) k.rampTo(top * i / n, s.fast_speed_m_per_s), k.hold(holdS());
     k.rampTo(slack(), s.fast_speed_m_per_s);
   } else {
@@ -65,7 +63,7 @@ Knots protocol(const TrialSpec& s, std::mt19937_64& rng) {
       k.rampTo(amp, v);
       k.hold(holdS());
       k.rampTo(slack(), v);
-      k.hold(uniform(rng, 2.0, 5.0));
+      k.hold(uniformDraw(rng, 2.0, 5.0));
     }
   }
   k.hold(2.0);
@@ -123,28 +121,28 @@ TrialSpec drawTrialSpec(uint64_t seed, const std::vector<std::string>& effects, 
   for (const char* e : {"strain_stiffening", "stress_relaxation", "cyclic_softening", "permanent_set"})
     if (std::find(effects.begin(), effects.end(), e) != effects.end()) s.effects.push_back(e);
   if (s.effects.size() != effects.size()) throw std::invalid_argument("drawTrialSpec: unknown or repeated effect");
-  s.protocol = uniform(rng, 0, 1) < 0.5 ? "staircase" : "rising_cycles";
-  s.sample_length_m = uniform(rng, 0.12, 0.22);
-  s.max_strain = uniform(rng, 0.35, 0.65);
-  s.slow_speed_m_per_s = uniform(rng, 3e-3, 6e-3);
-  s.fast_speed_m_per_s = s.slow_speed_m_per_s * uniform(rng, 3.0, 5.0);
-  s.actuator_tau_s = uniform(rng, 0.03, 0.3);
-  s.sample_rate_hz = uniform(rng, 50.0, 200.0);
-  s.offset_N = uniform(rng, -0.3, 0.3);
-  s.white_sd_N = uniform(rng, 0.01, 0.06);
-  s.coloured_sd_N = uniform(rng, 0.0, 0.5) * s.white_sd_N;
-  const double fmax = uniform(rng, 5.0, 15.0);  // force of the virgin curve at max_strain [N]
-  s.ec_Ns = uniform(rng, 0.01, 0.08);
+  s.protocol = uniformDraw(rng, 0, 1) < 0.5 ? "staircase" : "rising_cycles";
+  s.sample_length_m = uniformDraw(rng, 0.12, 0.22);
+  s.max_strain = uniformDraw(rng, 0.35, 0.65);
+  s.slow_speed_m_per_s = uniformDraw(rng, 3e-3, 6e-3);
+  s.fast_speed_m_per_s = s.slow_speed_m_per_s * uniformDraw(rng, 3.0, 5.0);
+  s.actuator_tau_s = uniformDraw(rng, 0.03, 0.3);
+  s.sample_rate_hz = uniformDraw(rng, 50.0, 200.0);
+  s.offset_N = uniformDraw(rng, -0.3, 0.3);
+  s.white_sd_N = uniformDraw(rng, 0.01, 0.06);
+  s.coloured_sd_N = uniformDraw(rng, 0.0, 0.5) * s.white_sd_N;
+  const double fmax = uniformDraw(rng, 5.0, 15.0);  // force of the virgin curve at max_strain [N]
+  s.ec_Ns = uniformDraw(rng, 0.01, 0.08);
   // Effect parameters, always drawn (the same seed, the same protocol and noise).
-  const double stiff_ratio = uniform(rng, 3.0, 8.0);  // tangent at max_strain / tangent at 0
-  const double g1_other = uniform(rng, 0.10, 0.20), tau1_other = uniform(rng, 0.5, 2.0);
-  const double g2_other = uniform(rng, 0.15, 0.30), tau2_other = uniform(rng, 15.0, 60.0);
-  const double g1_own = uniform(rng, 0.25, 0.45), tau1_own = uniform(rng, 3.0, 15.0);
-  const double d_inf = uniform(rng, 0.15, 0.35);
-  const double ec_over_max = uniform(rng, 0.3, 0.6);      // e_c / max_strain (other)
-  const double cycles_to_sat = uniform(rng, 2.0, 5.0);    // loading strain to saturation / a_c (own)
-  const double set = uniform(rng, 0.08, 0.20);
-  const double yield_over_max = uniform(rng, 0.2, 0.5);
+  const double stiff_ratio = uniformDraw(rng, 3.0, 8.0);  // tangent at max_strain / tangent at 0
+  const double g1_other = uniformDraw(rng, 0.10, 0.20), tau1_other = uniformDraw(rng, 0.5, 2.0);
+  const double g2_other = uniformDraw(rng, 0.15, 0.30), tau2_other = uniformDraw(rng, 15.0, 60.0);
+  const double g1_own = uniformDraw(rng, 0.25, 0.45), tau1_own = uniformDraw(rng, 3.0, 15.0);
+  const double d_inf = uniformDraw(rng, 0.15, 0.35);
+  const double ec_over_max = uniformDraw(rng, 0.3, 0.6);      // e_c / max_strain (other)
+  const double cycles_to_sat = uniformDraw(rng, 2.0, 5.0);    // loading strain to saturation / a_c (own)
+  const double set = uniformDraw(rng, 0.08, 0.20);
+  const double yield_over_max = uniformDraw(rng, 0.2, 0.5);
   const double smax = s.max_strain;
   double shape = smax;  // Fe(smax) / EA
   if (has(s, "strain_stiffening")) {
@@ -226,13 +224,13 @@ TensionTest generateTrialTest(const TrialSpec& s) {
     const double e = (1 - w) * ef[i] + w * ef[i + 1];
     const double f = (1 - w) * force[i] + w * force[i + 1];
     coloured = phi * coloured + s.coloured_sd_N * std::sqrt(1 - phi * phi) * normal(rng);
-    const double stamp = time + 0.1 * dt * uniform(rng, -1, 1);
+    const double stamp = time + 0.1 * dt * uniformDraw(rng, -1, 1);
     if (t.time_s.empty() || std::round(stamp * 1e4) / 1e4 > t.time_s.back()) {
       t.time_s.push_back(std::round(std::max(0.0, stamp) * 1e4) / 1e4);
       t.elongation_m.push_back(std::round(e * 1e6) / 1e6);
       t.force_N.push_back(std::round((s.offset_N + f + coloured + s.white_sd_N * normal(rng)) * 1e4) / 1e4);
     }
-    time += dt * uniform(rng, 0.9, 1.1);
+    time += dt * uniformDraw(rng, 0.9, 1.1);
   }
   return t;
 }

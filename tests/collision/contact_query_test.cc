@@ -11,11 +11,10 @@
 #include "fixture.h"
 #include "trainer/assets.h"
 #include "tests/random_vec3.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 WorldModel adultWorld() {
   const Parameters p = loadParameters(test::asset("params/default.json"));

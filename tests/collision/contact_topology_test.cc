@@ -12,11 +12,10 @@
 #include "core/tension_law.h"
 #include "fixture.h"
 #include "trainer/assets.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;  // the real time step [s]
 
 // The shipped patient (assets/params/default.json) on a small anatomy written here, without
 // gravity: an attached rectum straight up 14 cm; a free sigmoid that rises and turns

@@ -12,6 +12,7 @@
 #include "core/step_lanes.h"
 #include "fixture.h"
 #include "trainer/assets.h"
+#include "step.h"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -28,8 +29,6 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 WorldModel adultWorld() {
   const Parameters p = loadParameters(test::asset("params/default.json"));

@@ -12,7 +12,7 @@
 namespace colosim {
 namespace {
 
-ColonModel chain(int n, double k, const Vec3& g) {
+ColonModel pelvicChain(int n, double k, const Vec3& g) {
   Points q(3, n);
   for (int i = 0; i < n; ++i) q.col(i) = Vec3(0.015 * i, 0, 0);
   return buildColonModelFromPoints(q, Eigen::VectorXd::Constant(n, 0.02), 0.4, k, 0.2 * k, g,
@@ -20,7 +20,7 @@ ColonModel chain(int n, double k, const Vec3& g) {
 }
 
 TEST(AbdominalPressure, LoadsIntegrateTheForceDensityOverTheRegion) {
-  ColonModel m = chain(21, 60, Vec3::Zero());
+  ColonModel m = pelvicChain(21, 60, Vec3::Zero());
   ColonState s = makeColonState(m);
   // The whole chain moved by d and moving at v: a spline of moved control points is the rest
   // spline moved (the blending weights sum to 1), so the loads sum to -(k d + c v) times the
@@ -81,7 +81,7 @@ TEST(AbdominalPressure, PressedRegionSagsLessUnderGravity) {
   // pressure of k_p = 1060 N/m per m (as stiff as the attached mesentery); stable at 1 ms
   // and settled after 20 s.
   const Vec3 g(0, 0, -9.81);
-  const ColonModel m = chain(41, 60, g);
+  const ColonModel m = pelvicChain(41, 60, g);
   ColonState s = makeColonState(m);
   RegionSupport r;
   r.anchor_q = m.q_rest;

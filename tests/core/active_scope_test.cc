@@ -12,11 +12,10 @@
 
 #include "core/rotation.h"
 #include "core/scope_step.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 ActiveScopeParams active(ActiveStrategy strategy, double tau_s = 0.02, double limit_Nm = 0.5) {
   ActiveScopeParams a;

@@ -13,11 +13,10 @@
 #include "fixture.h"
 #include "trainer/assets.h"
 #include "tests/random_vec3.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 ColonModel chain(const Points& q, double k, double c, const Vec3& g, double ea = 28.9, double ec = 0.05) {
   return buildColonModelFromPoints(q, Eigen::VectorXd::Constant(q.cols(), 0.02), 0.4, k, c, g,
@@ -236,7 +235,7 @@ TEST(ColonCompression, DefaultIsThePaperElementASofterOneMovesOtherwiseAndOutOfR
   }
 }
 
-ColonModel adult(double EI, double beta) {
+ColonModel adultWithBending(double EI, double beta) {
   Parameters p = loadParameters(test::asset("params/default.json"));
   p.colon.bending_EI_Nm2 = EI;
   p.colon.mesentery_stiffening_per_m2 = beta;
@@ -244,13 +243,13 @@ ColonModel adult(double EI, double beta) {
 }
 
 TEST(ColonExtensions, EnergyNeverIncreasesWithDamping) {
-  test::expectEnergyNeverIncreases(adult(0.05, 2500), 3000, kDt);
+  test::expectEnergyNeverIncreases(adultWithBending(0.05, 2500), 3000, kDt);
 }
 
 TEST(ColonExtensions, AdultColonWithBothOnStaysBoundedAtOneMillisecond) {
   // The caecal end pulled by a load cycling between 0 and 8 N for 4 s at dt = 1 ms, with a
   // stiff bending rigidity and lifters twice as stiff at 2 cm.
-  const ColonModel m = adult(0.1, 2500);
+  const ColonModel m = adultWithBending(0.1, 2500);
   ColonState s = makeColonState(m);
   const Vec3 out = (m.q_rest.col(m.n - 1) - m.q_rest.col(m.n - 2)).normalized();
   double max_disp = 0;
@@ -278,9 +277,9 @@ TEST(ColonExtensions, ExtensionsChangeTheMotion) {
     for (int k = 0; k < 300; ++k) stepColon(m, s, kDt);
     return hashColonState(s);
   };
-  const uint64_t off = run(adult(0, 0));
-  EXPECT_NE(run(adult(0.05, 0)), off);
-  EXPECT_NE(run(adult(0, 2500)), off);
+  const uint64_t off = run(adultWithBending(0, 0));
+  EXPECT_NE(run(adultWithBending(0.05, 0)), off);
+  EXPECT_NE(run(adultWithBending(0, 2500)), off);
 }
 
 // The state hash of a fixed run (adult colon, default parameters, gravity, a kick and a

@@ -16,13 +16,13 @@ Eigen::MatrixXd dense(const ScalarBand& a) {
   return d;
 }
 
-ColonModel adult() {
+ColonModel adultColon() {
   const Parameters p = loadParameters(test::asset("params/default.json"));
   return loadColonModel(test::asset("anatomy/adult.json"), p);
 }
 
 TEST(ColonModel, MassMatrixIsSymmetricPositiveDefiniteWithTotalRhoTimesLength) {
-  const ColonModel m = adult();
+  const ColonModel m = adultColon();
   const Eigen::MatrixXd M = dense(m.mass);
   EXPECT_LT((M - M.transpose()).norm(), 1e-15);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
@@ -59,7 +59,7 @@ TEST(ColonModel, UniformMesenteryIsProportionalToMass) {
 }
 
 TEST(ColonModel, AdultAnatomyHasTheExpectedShape) {
-  const ColonModel m = adult();
+  const ColonModel m = adultColon();
   EXPECT_GT(m.length_m(), 1.31);
   EXPECT_LT(m.length_m(), 1.90);
   for (int j = 0; j + 1 < m.n; ++j) {
@@ -82,7 +82,7 @@ TEST(ColonModel, AdultAnatomyHasTheExpectedShape) {
 
 TEST(ColonModel, AdultBendsAreWiderThanTheLumen) {
   // A bend tighter than the lumen radius would fold the wall through itself.
-  const ColonModel m = adult();
+  const ColonModel m = adultColon();
   for (int j = 0; j + 1 < m.n; ++j) {
     for (double p : {0.0, 0.25, 0.5, 0.75}) {
       const Vec3 d1 = splineTangent(m.q_rest, j, p), d2 = splineSecondDerivative(m.q_rest, j, p);

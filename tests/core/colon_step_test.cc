@@ -8,11 +8,10 @@
 #include "fixture.h"
 #include "trainer/assets.h"
 #include "tests/random_vec3.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 ColonModel straightColon(int n, double k, double c, const Vec3& g, double ea = 28.9, double ec = 0.05) {
   Points q(3, n);

@@ -10,6 +10,7 @@
 #include "core/rotation.h"
 #include "core/tension_law.h"
 #include "tests/random_vec3.h"
+#include "tests/core/small_colons.h"
 
 namespace colosim {
 namespace {
@@ -26,11 +27,6 @@ class EverySegment final : public TrackingCandidates {
   }
 };
 
-WorldModel worldFromPoints(const Points& q, double radius_m) {
-  ColonModel colon = buildColonModelFromPoints(q, Eigen::VectorXd::Constant(q.cols(), radius_m), 0.4, 1000, 20,
-                                               Vec3::Zero(), std::make_shared<VoigtLaw>(28.9, 0.05));
-  return makeWorldModel(std::move(colon), ScopeParams(), ContactParams());
-}
 
 // Part A along +x from the origin to 0.2 m, a half turn, part B back along y = gap_m.
 Points hairpin(double gap_m) {
@@ -46,15 +42,9 @@ Points hairpin(double gap_m) {
   return q;
 }
 
-Points straight(double length_m) {
-  const int n = static_cast<int>(std::lround(length_m / 0.015)) + 1;
-  Points q(3, n);
-  for (int i = 0; i < n; ++i) q.col(i) = Vec3(0, 0, -0.015 * i);
-  return q;
-}
 
 TEST(ContactTracking, WalkReachesTheLocalMinimumAlongTheSpline) {
-  const WorldModel m = worldFromPoints(straight(0.6), 0.02);
+  const WorldModel m = smallWorld(straightDown(0.6), 0.02);
   std::vector<SegmentCubic> cubics;
   updateSegmentCubics(m.colon.q_rest, cubics);
   const Vec3 x(0.005, 0, -0.3);
@@ -73,7 +63,7 @@ TEST(ContactTracking, WalkReachesTheLocalMinimumAlongTheSpline) {
 // it is on B. The paper's scan would take B every time (the nearer centreline).
 TEST(ContactTracking, APointNeverChangesPartThroughTheWall) {
   const double r = 0.02, gap = 0.05;
-  const WorldModel m = worldFromPoints(hairpin(gap), r);
+  const WorldModel m = smallWorld(hairpin(gap), r);
   ContactTracker tracker(m);
   const ColonState rest = makeColonState(m.colon, 0);
   tracker.updateCubics(rest);
@@ -105,7 +95,7 @@ TEST(ContactTracking, TheColonStaysNearAPointThroughAPleatButNotRoundALoop) {
   EXPECT_TRUE(colonStaysNear(cubics, SplineLocation{0, 0.5}, SplineLocation{9, 0.5}, x, M_PI * 0.02));
   EXPECT_FALSE(colonStaysNear(cubics, SplineLocation{0, 0.5}, SplineLocation{9, 0.5}, x, 0.01));
 
-  const WorldModel m = worldFromPoints(hairpin(0.05), 0.02);
+  const WorldModel m = smallWorld(hairpin(0.05), 0.02);
   updateSegmentCubics(m.colon.q_rest, cubics);
   const Vec3 y(0.1, 0.025, 0);  // between the arms, opposite control point 10 of A
   int on_b = 0;
@@ -116,7 +106,7 @@ TEST(ContactTracking, TheColonStaysNearAPointThroughAPleatButNotRoundALoop) {
 // With every segment as a candidate and nothing ambiguous (a straight colon), the tracked
 // narrowphase finds the paper's contacts, tracked or not.
 TEST(ContactTracking, AgreesWithThePapersScanOnAStraightColon) {
-  const WorldModel m = worldFromPoints(straight(0.9), 0.02);
+  const WorldModel m = smallWorld(straightDown(0.9), 0.02);
   ContactTracker tracker(m);
   EverySegment candidates;
   std::mt19937 rng(3);

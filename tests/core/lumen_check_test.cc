@@ -8,23 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "core/tension_law.h"
+#include "tests/core/small_colons.h"
 
 namespace colosim {
 namespace {
-
-WorldModel worldFromPoints(const Points& q, double radius_m) {
-  ColonModel colon = buildColonModelFromPoints(q, Eigen::VectorXd::Constant(q.cols(), radius_m), 0.4, 1000, 20,
-                                               Vec3::Zero(), std::make_shared<VoigtLaw>(28.9, 0.05));
-  return makeWorldModel(std::move(colon), ScopeParams(), ContactParams());
-}
-
-// Straight down -z from the anus at the origin, 1.5 cm between control points.
-Points straight(double length_m) {
-  const int n = static_cast<int>(std::lround(length_m / 0.015)) + 1;
-  Points q(3, n);
-  for (int i = 0; i < n; ++i) q.col(i) = Vec3(0, 0, -0.015 * i);
-  return q;
-}
 
 // A quarter circle of radius `bend_m` after 0.1 m of straight colon down -z from the anus.
 Points bent(double bend_m) {
@@ -61,7 +48,7 @@ void trackNearest(const WorldModel& m, WorldState& s) {
 }
 
 TEST(LumenCheck, AScopeAlongTheCentrelineIsInsideWithContinuousTracks) {
-  const WorldModel m = worldFromPoints(straight(0.6), 0.02);
+  const WorldModel m = smallWorld(straightDown(0.6), 0.02);
   WorldState s = makeWorldState(m);
   threadScopeAlongColon(m, s, 0.4);
   trackNearest(m, s);
@@ -72,7 +59,7 @@ TEST(LumenCheck, AScopeAlongTheCentrelineIsInsideWithContinuousTracks) {
 }
 
 TEST(LumenCheck, ASliceTrackedOnAFarPartIsAJumpAndAnExit) {
-  const WorldModel m = worldFromPoints(straight(0.6), 0.02);
+  const WorldModel m = smallWorld(straightDown(0.6), 0.02);
   WorldState s = makeWorldState(m);
   threadScopeAlongColon(m, s, 0.4);
   trackNearest(m, s);
@@ -91,7 +78,7 @@ TEST(LumenCheck, ASliceTrackedOnAFarPartIsAJumpAndAnExit) {
 }
 
 TEST(LumenCheck, ASegmentPushedIntoTheWallPenetratesByWhatItIsOut) {
-  const WorldModel m = worldFromPoints(straight(0.6), 0.02);
+  const WorldModel m = smallWorld(straightDown(0.6), 0.02);
   WorldState s = makeWorldState(m);
   threadScopeAlongColon(m, s, 0.4);
   s.scope.p_W[5] += Vec3(0.03, 0, 0);  // 3 cm sideways: its axis 1 cm beyond the wall
@@ -106,7 +93,7 @@ TEST(Threading, JointsStartClosedOnABend) {
   // A bend of 2 cm radius, tighter than the scope's joints follow unloaded: segments
   // centred on arclength chords used to overlap there by ~0.35 mm.
   for (double bend_m : {0.02, 0.05}) {
-    const WorldModel m = worldFromPoints(bent(bend_m), 0.02);
+    const WorldModel m = smallWorld(bent(bend_m), 0.02);
     WorldState s = makeWorldState(m);
     threadScopeAlongColon(m, s, 0.18);  // the colon is 0.23-0.28 m long: the tip stays short of its end
     ASSERT_GT(s.scope.inside, 10);

@@ -8,11 +8,10 @@
 
 #include "core/rotation.h"
 #include "tests/random_vec3.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 // A scope entering at the origin along +x, with d2 (up) along +z, in free space.
 ScopeModel freeScope(const Vec3& gravity = Vec3::Zero()) {

@@ -6,11 +6,10 @@
 
 #include "core/scope_state.h"
 #include "core/scope_step.h"
+#include "step.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;
 
 // A scope along +x, d2 along +z, under gravity along -z: 0.45 m inserted (a cantilever
 // clamped at the anus), section 0.1-0.45 m from the tip with levels 1x, 2x, 3x.

@@ -1,4 +1,5 @@
 #include "render/camera.h"
+#include "core/numbers.h"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +8,6 @@
 
 namespace colosim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Clip-space projection of a world point, then normalised device coordinates.
 Eigen::Vector3f ndc(const Mat4f& proj_view, const Vec3& p) {

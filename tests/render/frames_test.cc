@@ -7,11 +7,10 @@
 #include "render/tube_mesh.h"
 #include "tests/fixture.h"
 #include "trainer/assets.h"
+#include "core/numbers.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double angleBetween(const Vec3& a, const Vec3& b) { return std::atan2(a.cross(b).norm(), a.dot(b)); }
 

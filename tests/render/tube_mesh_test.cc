@@ -8,11 +8,10 @@
 #include "tests/fixture.h"
 #include "tests/render/render_fixture.h"
 #include "trainer/assets.h"
+#include "core/numbers.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 class AdultMesh : public ::testing::Test {
  protected:

@@ -17,11 +17,10 @@
 #include "trainer/scenario.h"
 #include "trainer/session.h"
 #include "trainer/world_simulation.h"
+#include "core/numbers.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 AssistInput assistOf(bool pressure, const std::string& position) {
   AssistInput a;

@@ -17,9 +17,6 @@ namespace fs = std::filesystem;
 
 using Result = test::CommandOutput;
 
-Result run(const std::string& args, const test::TempDir& dir) {
-  return test::runCommandWithStderr(std::string(COLOSIM_EXE) + " " + args, dir);
-}
 
 // Mean |difference| over the RGB channels [levels of 255].
 double meanAbsDiff(const Image& a, const Image& b) {
@@ -37,7 +34,7 @@ constexpr const char* kRunArgs = "run sigmoid_untwist --duration 3 --fps 4 --vie
 TEST(VideoCli, RunVideoHasThePngFramesAndReplayMakesTheSameFile) {
   test::TempDir dir;
   const std::string video = dir.file("run.mp4"), frames = dir.file("frames"), session = dir.file("s.jsonl");
-  const Result r = run(std::string(kRunArgs) + " --frames " + frames + " --video " + video + " --record " + session, dir);
+  const Result r = test::runColosim(std::string(kRunArgs) + " --frames " + frames + " --video " + video + " --record " + session, dir);
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("video written in"), std::string::npos) << r.out;
   // FFmpeg's and x264's chatter stays off (the sanitized build's LeakSanitizer adds its
@@ -66,7 +63,7 @@ TEST(VideoCli, RunVideoHasThePngFramesAndReplayMakesTheSameFile) {
 
   // The replay of the recorded session gives the same frames, hence the same bytes.
   const std::string replayed = dir.file("replay.mp4");
-  const Result p = run("replay " + session + " --fps 4 --view both --size 96x64 --video " + replayed, dir);
+  const Result p = test::runColosim("replay " + session + " --fps 4 --view both --size 96x64 --video " + replayed, dir);
   ASSERT_EQ(p.code, 0) << p.out << p.err;
   EXPECT_TRUE(test::readFile(replayed) == test::readFile(video));  // (no dump of the bytes)
 }
@@ -76,13 +73,13 @@ TEST(VideoCli, NeverOverwritesAFile) {
   const std::string video = dir.write("taken.mp4", "precious");
   for (const std::string& args : {std::string("run sigmoid_untwist --duration 1 --video ") + video,
                                   "run sigmoid_untwist --duration 1 --frames " + dir.file("f") + " --video " + video}) {
-    const Result r = run(args, dir);
+    const Result r = test::runColosim(args, dir);
     EXPECT_EQ(r.code, 2) << r.out << r.err;
     EXPECT_NE(r.err.find(video + ": exists"), std::string::npos) << r.err;
     EXPECT_EQ(test::readFile(video), "precious");
     EXPECT_FALSE(fs::exists(dir.file("f")));  // checked before any output
   }
-  const Result odd = run("run sigmoid_untwist --duration 1 --size 97x64 --video " + dir.file("odd.mp4"), dir);
+  const Result odd = test::runColosim("run sigmoid_untwist --duration 1 --size 97x64 --video " + dir.file("odd.mp4"), dir);
   EXPECT_EQ(odd.code, 2);
   EXPECT_NE(odd.err.find("even width and height"), std::string::npos) << odd.err;
   EXPECT_FALSE(fs::exists(dir.file("odd.mp4")));

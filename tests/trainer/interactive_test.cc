@@ -17,11 +17,10 @@
 #include "session_fixture.h"
 #include "trainer/replay.h"
 #include "trainer/world_simulation.h"
+#include "core/numbers.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(IntegrateHandle, ClampsEveryInputToItsRange) {
   HandleLimits lim;

@@ -9,11 +9,10 @@
 #include <gtest/gtest.h>
 
 #include "trainer/telemetry.h"
+#include "core/numbers.h"
 
 namespace colosim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // An alpha loop in the x-z plane: the nodal cubic x = t^2, z = t^3 - t (t in [-1.6, 1.6])
 // crosses itself at t = +-1, the point (1, 0); scaled to 3 cm, mirrored when sense < 0.

@@ -1,5 +1,6 @@
 // The scorer on synthetic telemetry whose scores are known exactly.
 #include "trainer/score.h"
+#include "step.h"
 
 #include <cmath>
 #include <functional>
@@ -8,8 +9,6 @@
 
 namespace colosim {
 namespace {
-
-constexpr double kDt = 1e-3;  // [s]
 
 // Feeds `steps` records at 1 ms; `fill(k, t)` sets record k (time t already set).
 void feed(Scorer& s, long steps, const std::function<void(long, Telemetry&)>& fill, long first = 0) {

@@ -20,9 +20,6 @@ namespace {
 
 using Result = test::CommandOutput;
 
-Result run(const std::string& args, const test::TempDir& dir) {
-  return test::runCommandWithStderr(std::string(COLOSIM_EXE) + " " + args, dir);
-}
 
 std::string record(const test::TempDir& dir, const std::string& name, int seed) {
   std::string text = test::smallScenarioText(name);
@@ -37,14 +34,14 @@ std::string record(const test::TempDir& dir, const std::string& name, int seed) 
 
 TEST(SessionCli, HelpWorks) {
   test::TempDir dir;
-  EXPECT_EQ(run("score --help", dir).code, 0);
-  EXPECT_EQ(run("replay --help", dir).code, 0);
+  EXPECT_EQ(test::runColosim("score --help", dir).code, 0);
+  EXPECT_EQ(test::runColosim("replay --help", dir).code, 0);
 }
 
 TEST(SessionCli, ReplayCheckReproducesTheRecording) {
   test::TempDir dir;
   const std::string s = record(dir, "a", 1);
-  const Result r = run("replay " + s + " --check", dir);
+  const Result r = test::runColosim("replay " + s + " --check", dir);
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("matches the recording"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("250 steps"), std::string::npos) << r.out;
@@ -54,10 +51,10 @@ TEST(SessionCli, ReplayCheckReproducesTheRecording) {
   const auto pos = text.rfind("\"state_hash\":\"") + 14;
   text[pos] = text[pos] == '0' ? '1' : '0';
   const std::string tampered = dir.write("tampered.jsonl", text);
-  const Result t = run("replay " + tampered + " --check", dir);
+  const Result t = test::runColosim("replay " + tampered + " --check", dir);
   EXPECT_EQ(t.code, 1) << t.out << t.err;
   EXPECT_NE(t.err.find("final state hash"), std::string::npos) << t.err;
-  EXPECT_EQ(run("replay " + tampered, dir).code, 0);  // without --check: reported, not failed
+  EXPECT_EQ(test::runColosim("replay " + tampered, dir).code, 0);  // without --check: reported, not failed
 }
 
 TEST(SessionCli, TruncatedSessionReplaysItsPrefixAndSaysSo) {
@@ -65,7 +62,7 @@ TEST(SessionCli, TruncatedSessionReplaysItsPrefixAndSaysSo) {
   const std::string s = record(dir, "a", 1);
   const std::string text = test::readFile(s);
   const std::string cut = dir.write("cut.jsonl", text.substr(0, text.size() - 40));
-  const Result r = run("replay " + cut + " --check", dir);
+  const Result r = test::runColosim("replay " + cut + " --check", dir);
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_NE(r.err.find("cut off"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("TRUNCATED"), std::string::npos) << r.out;
@@ -74,7 +71,7 @@ TEST(SessionCli, TruncatedSessionReplaysItsPrefixAndSaysSo) {
 TEST(SessionCli, ScoreJsonIsOneObjectPerSessionInOrder) {
   test::TempDir dir;
   const std::string a = record(dir, "a", 1), b = record(dir, "b", 2), c = record(dir, "c", 3);
-  const Result r = run("score " + c + " " + a + " " + b + " --json", dir);
+  const Result r = test::runColosim("score " + c + " " + a + " " + b + " --json", dir);
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   ASSERT_TRUE(j.is_array());
@@ -99,7 +96,7 @@ TEST(SessionCli, ScoreJsonIsOneObjectPerSessionInOrder) {
     EXPECT_NEAR(o["duration_s"].get<double>(), 2.5, 1e-9);
   }
   // Text output too.
-  const Result t = run("score " + a, dir);
+  const Result t = test::runColosim("score " + a, dir);
   EXPECT_EQ(t.code, 0) << t.err;
   EXPECT_NE(t.out.find("time to caecum"), std::string::npos) << t.out;
 }
@@ -110,17 +107,17 @@ TEST(SessionCli, BadSessionsExitWithTwoNamingFileAndLine) {
   std::string text = test::readFile(good);
   text.replace(text.find("\"version\":1"), 11, "\"version\":2");
   const std::string bad = dir.write("bad.jsonl", text);
-  const Result r = run("score " + good + " " + bad + " --json", dir);
+  const Result r = test::runColosim("score " + good + " " + bad + " --json", dir);
   EXPECT_EQ(r.code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find(bad + ":1:"), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;  // nothing printed for the good one either
-  EXPECT_EQ(run("replay " + bad, dir).code, 2);
-  EXPECT_EQ(run("replay " + dir.file("none.jsonl"), dir).code, 2);
+  EXPECT_EQ(test::runColosim("replay " + bad, dir).code, 2);
+  EXPECT_EQ(test::runColosim("replay " + dir.file("none.jsonl"), dir).code, 2);
 
   // A session whose scenario has gone: exit 2 naming the session's header line.
   const std::string orphan = record(dir, "gone", 1);
   std::remove(dir.file("gone.json").c_str());
-  const Result o = run("replay " + orphan, dir);
+  const Result o = test::runColosim("replay " + orphan, dir);
   EXPECT_EQ(o.code, 2);
   EXPECT_NE(o.err.find(orphan + ":1:"), std::string::npos) << o.err;
 }
@@ -130,11 +127,11 @@ TEST(SessionCli, FramesNeverOverwriteExistingFiles) {
   const std::string s = record(dir, "a", 1);
   std::filesystem::create_directories(dir.file("frames"));
   const std::string keep = dir.write("frames/frame_000000.png", "precious");
-  const Result r = run("replay " + s + " --frames " + dir.file("frames"), dir);
+  const Result r = test::runColosim("replay " + s + " --frames " + dir.file("frames"), dir);
   EXPECT_EQ(r.code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("not empty"), std::string::npos) << r.err;
   EXPECT_EQ(test::readFile(keep), "precious");
-  EXPECT_EQ(run("replay " + s + " --size 10", dir).code, 2);
+  EXPECT_EQ(test::runColosim("replay " + s + " --size 10", dir).code, 2);
 }
 
 // A run with another parameter file (an identified model, `colosim run --params`) is
@@ -148,26 +145,26 @@ TEST(SessionCli, SessionRecordedWithAnotherParameterFileReplaysThatModel) {
   const std::string sticky = dir.write("sticky.json", params.dump(2));
 
   const std::string with = dir.file("with.jsonl"), without = dir.file("without.jsonl");
-  ASSERT_EQ(run("run " + scenario + " --params " + sticky + " --record " + with, dir).code, 0);
-  ASSERT_EQ(run("run " + scenario + " --record " + without, dir).code, 0);
+  ASSERT_EQ(test::runColosim("run " + scenario + " --params " + sticky + " --record " + with, dir).code, 0);
+  ASSERT_EQ(test::runColosim("run " + scenario + " --record " + without, dir).code, 0);
   const Session a = readSession(with), b = readSession(without);
   EXPECT_NE(a.header.params.find("sticky.json"), std::string::npos) << a.header.params;
   EXPECT_TRUE(b.header.params.empty());
   EXPECT_NE(a.final_state_hash, b.final_state_hash) << "the friction must change the motion";
 
-  const Result r = run("replay " + with + " --check", dir);
+  const Result r = test::runColosim("replay " + with + " --check", dir);
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
 
   // The file gone: the session cannot be replayed, said with its line.
   std::filesystem::rename(sticky, dir.file("moved.json"));
-  const Result gone = run("replay " + with, dir);
+  const Result gone = test::runColosim("replay " + with, dir);
   EXPECT_EQ(gone.code, 2);
   EXPECT_NE(gone.err.find(with + ":1: params"), std::string::npos) << gone.err;
 
   for (const std::string& flag : {std::string("--query scan"), "--tension-law " + dir.file("law.json")}) {
     const std::string out = dir.file("refused.jsonl");
-    const Result x = run("run " + scenario + " " + flag + " --record " + out, dir);
+    const Result x = test::runColosim("run " + scenario + " " + flag + " --record " + out, dir);
     EXPECT_EQ(x.code, 2) << flag << ": " << x.err;
     EXPECT_NE(x.err.find("--record with"), std::string::npos) << x.err;
     EXPECT_FALSE(std::filesystem::exists(out));

@@ -87,9 +87,6 @@ TEST(ExpertSessions, TheShippedOneIsThePinnedRunAndMatchesItsManoeuvre) {
 
 using Result = test::CommandOutput;
 
-Result run(const std::string& args, const test::TempDir& dir) {
-  return test::runCommandWithStderr(std::string(COLOSIM_EXE) + " " + args, dir);
-}
 
 // A 2.5 s session of the small test scenario (10 ms steps) on the colon + scope simulation.
 std::string record(const test::TempDir& dir, const std::string& name) {
@@ -112,7 +109,7 @@ TEST(ScoreReport, PagesLoadInABrowserWithTheNumbersOfScoreJson) {
   test::TempDir dir;
   const std::string a = record(dir, "alpha"), b = record(dir, "beta");
   const std::string report = dir.file("report");
-  const Result r = run("score " + a + " " + b + " --json --report " + report, dir);
+  const Result r = test::runColosim("score " + a + " " + b + " --json --report " + report, dir);
   ASSERT_EQ(r.code, 0) << r.out << r.err;
   const nlohmann::json scores = nlohmann::json::parse(r.out);  // --json: nothing else on stdout
   ASSERT_EQ(scores.size(), 2u);
@@ -181,7 +178,7 @@ TEST(ScoreReport, NeverWritesIntoAFolderWithFiles) {
   const std::string a = record(dir, "alpha");
   fs::create_directories(dir.file("taken"));
   const std::string kept = dir.write("taken/index.html", "mine");
-  const Result r = run("score " + a + " --report " + dir.file("taken"), dir);
+  const Result r = test::runColosim("score " + a + " --report " + dir.file("taken"), dir);
   EXPECT_EQ(r.code, 2) << r.out << r.err;
   EXPECT_NE(r.err.find("never overwrites"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");  // stopped before any replay
