@@ -118,7 +118,8 @@ TEST_P(IdentifyAnswer, IsUnchanged) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, IdentifyAnswer,
-                         ::testing::Values("tension_fig8_sample1", "tension_fig8_sample2", "insertion_synthetic"));
+                         ::testing::Values("tension_fig8_sample1", "tension_fig8_sample2", "insertion_synthetic"),
+                         [](const ::testing::TestParamInfo<std::string>& i) { return i.param; });
 
 }  // namespace
 }  // namespace colosim

@@ -63,7 +63,7 @@ TEST(Progress, DisabledDrawsNothing) {
 // line with the elapsed time on a terminal; with --json, the JSON alone.
 TEST(Progress, ATerminalGetsTheBarAndJsonGetsNothingExtra) {
   if (test::runCommand("command -v script >/dev/null").code != 0) GTEST_SKIP() << "no script(1)";
-  const std::string run = std::string(COLOSIM_EXE) + " run sigmoid_untwist --duration 1.5";
+  const std::string run = std::string(COLOSIM_EXE) + " run sigmoid_untwist --duration 0.3";
   const test::CommandResult tty = test::runCommand("script -qec '" + run + "' /dev/null");
   ASSERT_EQ(tty.code, 0) << tty.out;
   EXPECT_NE(tty.out.find("\rrun sigmoid_untwist [##############################] 100%  "), std::string::npos)
