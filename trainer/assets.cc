@@ -52,10 +52,7 @@ uint64_t hashBytes(const std::string& bytes) {
 namespace {
 
 void checkHeader(JsonObject& top, const std::string& format) {
-  const std::string f = top.string("format");
-  if (f != format) top.fail("format", "expected '" + format + "', got '" + f + "'");
-  const int version = top.integer("version", 0, 1000000);
-  if (version != 1) top.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  top.formatAndVersion(format);
   top.ignore("description");
 }
 

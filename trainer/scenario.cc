@@ -33,10 +33,7 @@ std::string assetFile(JsonObject& top, const std::string& key) {
 
 Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
   JsonObject top(j, path);
-  const std::string format = top.string("format");
-  if (format != "colosim-scenario") top.fail("format", "expected 'colosim-scenario', got '" + format + "'");
-  const int version = top.integer("version", 0, 1000000);
-  if (version != 1) top.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  top.formatAndVersion("colosim-scenario");
 
   Scenario s;
   s.file = path;

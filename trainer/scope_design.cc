@@ -15,10 +15,7 @@ namespace {
 ScopeDesign designFromJson(const std::string& text, const std::string& file) {
   const nlohmann::json j = parseJsonText(text, file);
   JsonObject top(j, file);
-  const std::string format = top.string("format");
-  if (format != "colosim-scope") top.fail("format", "expected 'colosim-scope', got '" + format + "'");
-  const int version = top.integer("version", 0, 1000000);
-  if (version != 1) top.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  top.formatAndVersion("colosim-scope");
 
   ScopeDesign d;
   d.file = file;

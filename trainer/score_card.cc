@@ -18,9 +18,7 @@ std::string expertReferencesPath() {
 std::vector<ExpertReference> loadExpertReferences(const std::string& path) {
   const nlohmann::json j = readJsonFile(path);
   JsonObject top(j, path);
-  if (top.string("format") != "colosim-expert-references")
-    top.fail("format", "expected 'colosim-expert-references'");
-  if (top.integer("version", 0, INT_MAX) != 1) top.fail("version", "unsupported version (this build reads 1)");
+  top.formatAndVersion("colosim-expert-references");
   top.ignore("note");
   JsonObject experts = top.object("experts");
   const nlohmann::json& refs = top.raw("references");

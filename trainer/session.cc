@@ -39,12 +39,7 @@ long readStep(JsonObject& o, double dt_s) {
 
 SessionHeader readHeader(JsonObject& o) {
   SessionHeader h;
-  const std::string format = o.string("format");
-  if (format != kSessionFormat) o.fail("format", "expected '" + std::string(kSessionFormat) + "', got '" + format + "'");
-  const int version = o.integer("version", 0, INT_MAX);
-  if (version != kSessionVersion)
-    o.fail("version", "unsupported version " + std::to_string(version) + " (this build reads " +
-                          std::to_string(kSessionVersion) + ")");
+  o.formatAndVersion(kSessionFormat, kSessionVersion);
   h.scenario = o.string("scenario");
   if (h.scenario.empty()) o.fail("scenario", "must not be empty");
   h.scenario_hash = readHash(o, "scenario_hash");

@@ -76,6 +76,14 @@ std::string JsonObject::keyPath(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
 }
 
+void JsonObject::formatAndVersion(const std::string& format, int version) {
+  const std::string f = string("format");
+  if (f != format) fail("format", "expected '" + format + "', got '" + f + "'");
+  const int v = integer("version", 0, 1000000);
+  if (v != version)
+    fail("version", "unsupported version " + std::to_string(v) + " (this build reads " + std::to_string(version) + ")");
+}
+
 void JsonObject::fail(const std::string& key, const std::string& message) const {
   throw InputError(where_ + ": " + keyPath(key) + ": " + message);
 }

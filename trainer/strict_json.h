@@ -59,6 +59,10 @@ class JsonObject {
   /// A documented choice {"value": "name", "source": s[, "note": t]}.
   std::string quantityChoice(const std::string& key, const std::vector<std::string>& allowed);
 
+  /// Reads a file's "format" and "version" keys: the format must be `format` and the version
+  /// the one this build reads.
+  void formatAndVersion(const std::string& format, int version = 1);
+
   /// Marks a key as known without reading it (free text such as "note").
   void ignore(const std::string& key);
   /// Throws InputError naming the first key that was never read.

@@ -36,10 +36,7 @@ namespace {
 
 Study studyFromJson(const nlohmann::json& j, const std::string& path) {
   JsonObject top(j, path);
-  const std::string format = top.string("format");
-  if (format != "colosim-study") top.fail("format", "expected 'colosim-study', got '" + format + "'");
-  const int version = top.integer("version", 0, 1000000);
-  if (version != 1) top.fail("version", "unsupported version " + std::to_string(version) + " (this build reads 1)");
+  top.formatAndVersion("colosim-study");
   Study s;
   s.file = path;
   s.name = top.string("name");
