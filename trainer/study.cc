@@ -625,8 +625,7 @@ StudyResults mergeShards(const std::vector<std::string>& dirs) {
     const nlohmann::json j = parseJsonText(text, file);
     try {
       JsonObject top(j, file);
-      if (top.string("format") != "colosim-study-shard") top.fail("format", "expected 'colosim-study-shard'");
-      if (top.integer("version", 0, 1000000) != 1) top.fail("version", "unsupported version (this build reads 1)");
+      top.formatAndVersion("colosim-study-shard");
       const std::string study = top.string("study");
       top.ignore("study_file");
       const std::string hash = top.string("study_hash");
