@@ -11,6 +11,14 @@ namespace colosim {
 
 namespace {
 
+// NAME.jsonl, or NAME.jsonl.gz (gzip-compressed: readSession reads both).
+bool isSessionFileName(const std::string& name) {
+  auto endsWith = [&](const std::string& tail) {
+    return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+  };
+  return endsWith(".jsonl") || endsWith(".jsonl.gz");
+}
+
 bool sameStart(const Scenario& a, const Scenario& b) {
   const ScenarioStart &s = a.start, &t = b.start;
   return a.anatomy_path == b.anatomy_path && s.kind == t.kind && s.settle_s == t.settle_s &&
@@ -26,7 +34,7 @@ std::vector<ExpertSession> loadExpertSessions(const std::string& dir_in) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return {};
   for (const auto& e : fs::directory_iterator(dir, ec))
-    if (e.path().extension() == ".jsonl") files.push_back(e.path().string());
+    if (isSessionFileName(e.path().filename().string())) files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   std::vector<ExpertSession> out;
   for (const std::string& f : files) {

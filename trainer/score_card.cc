@@ -11,56 +11,6 @@
 
 namespace colosim {
 
-std::string expertReferencesPath() {
-  return (std::filesystem::path(assetDir()) / "experts" / "references.json").string();
-}
-
-std::vector<ExpertReference> loadExpertReferences(const std::string& path) {
-  const nlohmann::json j = readJsonFile(path);
-  JsonObject top(j, path);
-  top.formatAndVersion("colosim-expert-references");
-  top.ignore("note");
-  JsonObject experts = top.object("experts");
-  const nlohmann::json& refs = top.raw("references");
-  if (!refs.is_object() || refs.empty()) top.fail("references", "expected an object {scenario: expert}");
-  std::vector<ExpertReference> out;
-  for (const auto& [scenario, expert_name] : refs.items()) {
-    if (!expert_name.is_string()) top.fail("references." + scenario, "expected the name of an expert");
-    const std::string expert = expert_name.get<std::string>();
-    if (!experts.has(expert))
-      top.fail("references." + scenario, "names '" + expert + "', which is not in experts");
-    JsonObject e = experts.object(expert);
-    ExpertReference r;
-    r.scenario = scenario;
-    r.expert = expert;
-    r.command = e.string("command");
-    e.ignore("scenario_hash");
-    e.ignore("final_state_hash");
-    e.ignore("colosim_version");
-    r.scores = e.raw("scores");
-    if (!r.scores.is_object()) e.fail("scores", "expected the object of colosim run --score --json");
-    for (const auto& [key, value] : r.scores.items())
-      if (value.is_number() && !std::isfinite(value.get<double>())) e.fail("scores." + key, "must be finite");
-    e.finish();
-    out.push_back(std::move(r));
-  }
-  // Every expert listed is used by some reference (a typo would otherwise go unseen).
-  for (const std::string& name : experts.keys()) {
-    const bool used = std::any_of(out.begin(), out.end(), [&](const ExpertReference& r) { return r.expert == name; });
-    if (!used) top.fail("experts." + name, "is the reference of no scenario");
-  }
-  experts.finish();
-  top.finish();
-  return out;
-}
-
-const ExpertReference* findExpertReference(const std::vector<ExpertReference>& references,
-                                           const std::string& scenario_name) {
-  for (const ExpertReference& r : references)
-    if (r.scenario == scenario_name) return &r;
-  return nullptr;
-}
-
 namespace {
 
 // A metric compared with the expert: lower is better (forces, time in a loop...) or
@@ -114,10 +64,10 @@ std::string fmt(const char* format, double v) {
 
 }  // namespace
 
-std::vector<ScoreCardRow> scoreCard(const nlohmann::json& scores, const ExpertReference* expert) {
+std::vector<ScoreCardRow> scoreCard(const nlohmann::json& scores, const nlohmann::json* expert) {
   std::vector<ScoreCardRow> rows;
   const nlohmann::json none;
-  const nlohmann::json& ref = expert ? expert->scores : none;
+  const nlohmann::json& ref = expert ? *expert : none;
   const bool expert_reached = numberAt(ref, "time_to_caecum_s").has_value();
 
   // Caecum reached and the time it took: clinical thresholds, when reaching the caecum is

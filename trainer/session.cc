@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <streambuf>
+
+#include <zlib.h>
 
 #include "trainer/handle_io.h"
 #include "trainer/strict_json.h"
@@ -188,10 +190,59 @@ Session parseSession(const std::string& text, const std::string& file) {
   return parseSessionStream(in, file);
 }
 
+namespace {
+
+// A read-only stream buffer over zlib's gz reader: a gzip-compressed session
+// (NAME.jsonl.gz, e.g. the shipped expert sessions) reads like a plain one, and a plain
+// file passes through unchanged (zlib reads it as is). A file cut inside its gzip stream
+// reads as far as it goes: the session parser then sees a cut-off recording.
+class GzReadBuffer : public std::streambuf {
+ public:
+  explicit GzReadBuffer(const std::string& path) : f_(gzopen(path.c_str(), "rb")) {}
+  ~GzReadBuffer() override {
+    if (f_) gzclose(f_);
+  }
+  GzReadBuffer(const GzReadBuffer&) = delete;
+  GzReadBuffer& operator=(const GzReadBuffer&) = delete;
+  bool isOpen() const { return f_ != nullptr; }
+  /// zlib's message when the data could not be decompressed (not a cut), else "".
+  const std::string& error() const { return error_; }
+
+ protected:
+  int_type underflow() override {
+    if (gptr() < egptr()) return traits_type::to_int_type(*gptr());
+    const int n = gzread(f_, buffer_, sizeof buffer_);
+    if (n <= 0) {
+      int code = Z_OK;
+      const char* message = gzerror(f_, &code);
+      if (n < 0 && code != Z_BUF_ERROR) error_ = message ? message : "gzip error";
+      return traits_type::eof();
+    }
+    setg(buffer_, buffer_, buffer_ + n);
+    return traits_type::to_int_type(*gptr());
+  }
+
+ private:
+  gzFile f_;
+  char buffer_[1 << 16];
+  std::string error_;
+};
+
+}  // namespace
+
 Session readSession(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open file");
-  return parseSessionStream(in, path);
+  GzReadBuffer buffer(path);
+  if (!buffer.isOpen()) throw InputError(path + ": cannot open file");
+  std::istream in(&buffer);
+  Session s;
+  try {
+    s = parseSessionStream(in, path);
+  } catch (const InputError&) {
+    if (!buffer.error().empty()) throw InputError(path + ": not a readable gzip file: " + buffer.error());
+    throw;
+  }
+  if (!buffer.error().empty()) throw InputError(path + ": not a readable gzip file: " + buffer.error());
+  return s;
 }
 
 // ---------------------------------------------------------------------------------------

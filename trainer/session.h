@@ -98,6 +98,8 @@ struct Session {
 /// naming the file and line. A file without its end line (a crash), or whose last line
 /// is cut off, gives the replayable prefix with truncated = true and a message.
 /// A file cut before its header is complete is an InputError (nothing to replay).
+/// A gzip-compressed session (NAME.jsonl.gz) is read the same way; a corrupt gzip stream
+/// is an InputError naming the file.
 Session readSession(const std::string& path);
 /// The same from text in memory; `file` names it in messages.
 Session parseSession(const std::string& text, const std::string& file);

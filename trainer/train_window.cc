@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -26,6 +27,7 @@
 #include "render/image.h"
 #include "render/renderer.h"
 #include "render/window.h"
+#include "trainer/expert_sessions.h"
 #include "trainer/replay.h"
 #include "trainer/scene_drawing.h"
 #include "trainer/score_card.h"
@@ -406,7 +408,12 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
     throw InputError(o.screenshot + ": exists (a screenshot never overwrites a file)");
   if (!o.record.empty() && std::filesystem::exists(o.record))
     throw InputError(o.record + ": exists (a session never overwrites a file); choose a new name or --record-dir");
-  const std::vector<ExpertReference> experts = loadExpertReferences(expertReferencesPath());
+  // The expert sessions (the score card's references; free_insertion's is 240 s at 1 kHz)
+  // are read on a thread of their own while the trainee drives: the window opens at once.
+  std::future<std::vector<ExpertSession>> experts_loading =
+      std::async(std::launch::async, [] { return loadExpertSessions(); });
+  std::vector<ExpertSession> experts;
+  bool experts_loaded = false;
   // The start screen's list: the given scenario first when it is not a shipped one.
   std::vector<Scenario> scenarios;
   int selected = 0;
@@ -437,7 +444,7 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
   Screen screen = o.start_screen ? Screen::kStart : Screen::kSession;
   std::unique_ptr<ActiveSession> session;
   std::vector<ScoreCardRow> card;
-  const ExpertReference* card_expert = nullptr;
+  const ExpertSession* card_expert = nullptr;
   int session_count = 0;
 
   auto warn = [](const std::string& m) { std::fprintf(stderr, "colosim train: warning: %s\n", m.c_str()); };
@@ -483,8 +490,16 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
     // The references are for the shipped scenarios only (a scenario file of the same name
     // elsewhere may differ): a shipped scenario's id is its name.
     const Scenario& sc = session->scenario;
-    card_expert = sc.id == sc.name ? findExpertReference(experts, sc.name) : nullptr;
-    card = scoreCard(session->result.scores, card_expert);
+    if (!experts_loaded) {
+      experts_loaded = true;
+      try {
+        experts = experts_loading.get();
+      } catch (const std::exception& e) {  // the session is recorded: show its card without references
+        warn(std::string("the expert sessions cannot be read, the card has no expert column: ") + e.what());
+      }
+    }
+    card_expert = sc.id == sc.name ? expertFor(sc, experts) : nullptr;
+    card = scoreCard(session->result.scores, card_expert ? &card_expert->scores : nullptr);
     out.score_card = scoreCardJson(card);
     out.screens.push_back("score_card");
     screen = Screen::kScoreCard;

@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "fixture.h"
+#include "trainer/expert_sessions.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
-#include "trainer/score_card.h"
 #include "trainer/world_simulation.h"
 
 namespace colosim {
@@ -166,16 +166,16 @@ TEST(ScenarioRuns, FinalStatesAreThePinnedOnes) {
   }
 }
 
-// The trainer's score card compares sessions with assets/experts/references.json (made by
-// tools/make_expert_references.py from these runs): its scores must be what the runs give
-// today. Named FinalStates* so that it runs in the process that runs every scenario.
-TEST(ScenarioRuns, FinalStatesScoreAsTheExpertReferences) {
-  const std::vector<ExpertReference> refs = loadExpertReferences(expertReferencesPath());
-  ASSERT_FALSE(refs.empty());
-  for (const ExpertReference& r : refs)
-    EXPECT_EQ(r.scores, runOnce(r.expert).scores)
-        << r.scenario << ": the expert reference (" << r.expert << ") is stale; make it again with "
-        << "tools/make_expert_references.py build/app/colosim";
+// The trainer's score card and the session reports compare sessions with the shipped
+// expert sessions (assets/sessions/expert/): the scores their end lines recorded must be
+// what the runs give today. Named FinalStates* so that it runs in the process that runs
+// every scenario.
+TEST(ScenarioRuns, FinalStatesScoreAsTheExpertSessions) {
+  const std::vector<ExpertSession> experts = loadExpertSessions();
+  ASSERT_FALSE(experts.empty());
+  for (const ExpertSession& e : experts)
+    EXPECT_EQ(e.scores, runOnce(e.scenario_id).scores)
+        << e.file << " is stale; record it again (docs/file-formats.md, Expert references)";
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // The trainer's score card (trainer/score_card.h) and the scope-shape inset
-// (trainer/scope_inset.h): bands at their stated thresholds, the shipped expert
-// references read strictly, the coronal projection.
+// (trainer/scope_inset.h): bands at their stated thresholds, the coronal projection. The
+// shipped expert sessions the card compares with: tests/trainer/session_report_test.cc.
 #include "trainer/score_card.h"
 
 #include <gtest/gtest.h>
@@ -18,15 +18,8 @@ const ScoreCardRow& row(const std::vector<ScoreCardRow>& rows, const std::string
   throw std::runtime_error("no row " + key);
 }
 
-ExpertReference expertWith(nlohmann::json scores) {
-  ExpertReference e;
-  e.scenario = e.expert = "x";
-  e.scores = std::move(scores);
-  return e;
-}
-
 TEST(ScoreCard, RelativeBandsAtTheirThresholds) {
-  const ExpertReference e = expertWith({{"peak_push_N", 10.0}, {"excessive_pressure_episodes", 0},
+  const nlohmann::json e({{"peak_push_N", 10.0}, {"excessive_pressure_episodes", 0},
                                         {"lumen_visible_pct", 80.0}, {"time_to_caecum_s", nullptr}});
   auto band = [&](const std::string& key, double v) {
     return row(scoreCard(nlohmann::json{{key, v}}, &e), key).band;
@@ -54,7 +47,7 @@ TEST(ScoreCard, RelativeBandsAtTheirThresholds) {
 }
 
 TEST(ScoreCard, CaecumBandsAreClinicalAndOnlyWhereTheExpertGoesThere) {
-  const ExpertReference to_caecum = expertWith({{"time_to_caecum_s", 201.4}});
+  const nlohmann::json to_caecum({{"time_to_caecum_s", 201.4}});
   auto time_band = [&](const nlohmann::json& t) {
     return row(scoreCard(nlohmann::json{{"time_to_caecum_s", t}}, &to_caecum), "time_to_caecum_s").band;
   };
@@ -66,7 +59,7 @@ TEST(ScoreCard, CaecumBandsAreClinicalAndOnlyWhereTheExpertGoesThere) {
   EXPECT_EQ(row(scoreCard(nlohmann::json{{"time_to_caecum_s", nullptr}}, &to_caecum), "caecum_reached").band, "red");
   EXPECT_EQ(row(scoreCard(nlohmann::json{{"time_to_caecum_s", 300.0}}, &to_caecum), "caecum_reached").band, "green");
   // The sigmoid experts stop at the splenic flexure: no caecum band.
-  const ExpertReference sigmoid = expertWith({{"time_to_caecum_s", nullptr}});
+  const nlohmann::json sigmoid({{"time_to_caecum_s", nullptr}});
   EXPECT_EQ(row(scoreCard(nlohmann::json{{"time_to_caecum_s", nullptr}}, &sigmoid), "caecum_reached").band, "none");
   EXPECT_EQ(formatCardValue("caecum_reached", 1.0), "yes");
   EXPECT_EQ(formatCardValue("time_to_caecum_s", 201.4), "201.4 (3.4 min)");
@@ -74,7 +67,7 @@ TEST(ScoreCard, CaecumBandsAreClinicalAndOnlyWhereTheExpertGoesThere) {
 }
 
 TEST(ScoreCard, JsonKeepsTheValuesAndWhatIsShown) {
-  const ExpertReference e = expertWith({{"peak_wall_force_N", 8.7}});
+  const nlohmann::json e({{"peak_wall_force_N", 8.7}});
   const nlohmann::json j = scoreCardJson(scoreCard(nlohmann::json{{"peak_wall_force_N", 34.9123}}, &e));
   bool found = false;
   for (const nlohmann::json& r : j)
@@ -88,37 +81,6 @@ TEST(ScoreCard, JsonKeepsTheValuesAndWhatIsShown) {
       EXPECT_NE(r["rule"].get<std::string>().find("expert"), std::string::npos);
     }
   EXPECT_TRUE(found);
-}
-
-TEST(ExpertReferences, ShippedFileNamesAReferenceForTheShippedScenarios) {
-  const std::vector<ExpertReference> refs = loadExpertReferences(test::asset("experts/references.json"));
-  for (const char* name : {"sigmoid_untwist", "sigmoid_push", "free_insertion"}) {
-    const ExpertReference* r = findExpertReference(refs, name);
-    ASSERT_NE(r, nullptr) << name;
-    EXPECT_TRUE(r->scores.contains("peak_push_N")) << name;
-  }
-  EXPECT_EQ(findExpertReference(refs, "sigmoid_push")->expert, "sigmoid_untwist");
-  EXPECT_EQ(findExpertReference(refs, "no_such"), nullptr);
-}
-
-TEST(ExpertReferences, BadFilesAreNamed) {
-  test::TempDir dir;
-  const std::string head = R"({"format": "colosim-expert-references", "version": 1, )";
-  auto fails = [&](const std::string& body, const std::string& needle) {
-    const std::string path = dir.write("refs.json", head + body);
-    try {
-      loadExpertReferences(path);
-      ADD_FAILURE() << "accepted: " << body;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    }
-  };
-  fails(R"("references": {"a": "b"}, "experts": {}})", "references.a");
-  fails(R"("references": {"a": "b"}, "experts": {"b": {"command": "c", "scores": []}}})", "scores");
-  fails(R"("references": {"a": "b"}, "experts": {"b": {"command": "c", "scores": {}, "extra": 1}}})", "extra");
-  fails(R"("references": {"a": "b"}, "experts": {"b": {"command": "c", "scores": {}}, "c": {}}})", "experts.c");
-  fails(R"("references": {}, "experts": {}})", "references");
 }
 
 TEST(ScopeInset, CoronalProjectionKeepsLeftRightAndHeadUp) {

@@ -65,24 +65,28 @@ TEST(SessionTimeline, MarksTheEventsTheScorerCounts) {
   EXPECT_DOUBLE_EQ(peak, j["peak_handle_force_N"].get<double>());
 }
 
-// The shipped expert session is the run the golden file pins (same final state hash), so
-// its recorded scores are what the simulation gives today; sigmoid_push (the same start)
-// is compared with it, free_insertion with none.
-TEST(ExpertSessions, TheShippedOneIsThePinnedRunAndMatchesItsManoeuvre) {
+// The shipped expert sessions are the runs the golden file pins (same final state hash),
+// so their recorded scores are what the simulation gives today; sigmoid_push (the same
+// start) is compared with sigmoid_untwist's, free_insertion_attached_rectum (another
+// anatomy and start) with none.
+TEST(ExpertSessions, TheShippedOnesAreThePinnedRunsAndMatchTheirManoeuvres) {
   const std::vector<ExpertSession> experts = loadExpertSessions();
-  ASSERT_GE(experts.size(), 1u);
-  const ExpertSession* untwist = expertFor(findScenario("sigmoid_untwist"), experts);
-  ASSERT_NE(untwist, nullptr);
   const nlohmann::json golden =
       nlohmann::json::parse(test::readFile(std::string(COLOSIM_GOLDEN_DIR) + "/behaviour.json"));
-  EXPECT_EQ(hashToHex(readSession(untwist->file).final_state_hash),
-            golden["scenario_final_state_hash"]["sigmoid_untwist"].get<std::string>())
-      << "the simulation changed: record " << untwist->file << " again (colosim run sigmoid_untwist --record)";
-  EXPECT_GT(untwist->scores["peak_handle_force_N"].get<double>(), 0.0);
+  for (const char* name : {"sigmoid_untwist", "free_insertion"}) {
+    std::string why;
+    const ExpertSession* e = expertFor(findScenario(name), experts, &why);
+    ASSERT_NE(e, nullptr) << name;
+    EXPECT_EQ(why, "same scenario");
+    EXPECT_EQ(hashToHex(readSession(e->file).final_state_hash),
+              golden["scenario_final_state_hash"][name].get<std::string>())
+        << "the simulation changed: record " << e->file << " again (docs/file-formats.md, Expert references)";
+    EXPECT_GT(e->scores["peak_handle_force_N"].get<double>(), 0.0) << name;
+  }
   std::string why;
-  EXPECT_EQ(expertFor(findScenario("sigmoid_push"), experts, &why), untwist);
+  EXPECT_EQ(expertFor(findScenario("sigmoid_push"), experts, &why), expertFor(findScenario("sigmoid_untwist"), experts));
   EXPECT_EQ(why, "same start as sigmoid_untwist");
-  EXPECT_EQ(expertFor(findScenario("free_insertion"), experts), nullptr);
+  EXPECT_EQ(expertFor(findScenario("free_insertion_attached_rectum"), experts), nullptr);
 }
 
 using Result = test::CommandOutput;

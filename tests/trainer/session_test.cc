@@ -1,5 +1,5 @@
-// Sessions: format round trip, flushing as it goes, truncation at every byte, and every
-// kind of bad input named with its file and line.
+// Sessions: format round trip, flushing as it goes, truncation at every byte, every kind
+// of bad input named with its file and line, gzip-compressed sessions.
 #include "trainer/session.h"
 
 #include <cmath>
@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include "fake_simulation.h"
 #include "fixture.h"
@@ -205,6 +206,60 @@ TEST(Session, CutMidLineReplaysItsPrefixAndSaysSo) {
   EXPECT_FALSE(res.final_hash_checked);
   EXPECT_TRUE(res.hashOk()) << res.mismatch;
   EXPECT_EQ(res.steps, s.steps);
+}
+
+// `bytes` gzip-compressed, as `gzip` writes it.
+std::string gzipped(const std::string& bytes) {
+  uLongf size = compressBound(bytes.size()) + 64;
+  std::string out(size, '\0');
+  z_stream z{};
+  EXPECT_EQ(deflateInit2(&z, 9, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY), Z_OK);  // +16: gzip wrapper
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data()));
+  z.avail_in = static_cast<uInt>(bytes.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(size);
+  EXPECT_EQ(deflate(&z, Z_FINISH), Z_STREAM_END);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  return out;
+}
+
+// A gzip-compressed session (the shipped expert sessions are) reads and replays as the
+// plain one; cut inside the gzip stream it is a cut-off session, corrupted a named error.
+TEST(Session, GzipCompressedReadsAsThePlainOne) {
+  Recorded r;
+  const std::string gz = gzipped(r.text);
+  ASSERT_LT(gz.size(), r.text.size());
+  const std::string path = r.dir.write("s.jsonl.gz", gz);
+  const Session plain = readSession(r.path), packed = readSession(path);
+  EXPECT_TRUE(packed.complete);
+  EXPECT_EQ(packed.lines, plain.lines);
+  EXPECT_EQ(packed.steps, plain.steps);
+  EXPECT_EQ(packed.final_state_hash, plain.final_state_hash);
+  EXPECT_EQ(packed.summary, plain.summary);
+  const ReplayPlan plan = planReplay(path);
+  test::FakeSimulation sim(plan.scenario);
+  const ReplayResult res = replay(plan, sim);
+  EXPECT_TRUE(res.final_hash_checked);
+  EXPECT_TRUE(res.hashOk()) << res.mismatch;
+
+  // Cut at 60 %: the end line is lost, the prefix is what a cut plain file gives.
+  const std::string cut_path = r.dir.write("cut.jsonl.gz", gz.substr(0, gz.size() * 6 / 10));
+  const Session cut = readSession(cut_path);
+  EXPECT_TRUE(cut.truncated);
+  EXPECT_FALSE(cut.complete);
+  EXPECT_NE(cut.message.find(cut_path), std::string::npos) << cut.message;
+
+  // Bytes in the middle of the stream overwritten: an error naming the file.
+  std::string bad = gz;
+  for (size_t k = bad.size() / 3; k < bad.size() / 3 + 64; ++k) bad[k] = static_cast<char>(0x5a ^ bad[k]);
+  const std::string bad_path = r.dir.write("bad.jsonl.gz", bad);
+  try {
+    readSession(bad_path);
+    ADD_FAILURE() << "a corrupted gzip session was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(bad_path), std::string::npos) << e.what();
+  }
 }
 
 TEST(Session, NoEndLineIsATruncatedSession) {

@@ -114,14 +114,17 @@ PY
 score_card)
   [ -s "$dir/card.png" ] || fail "no screenshot"
   "$exe" score "$dir/s.jsonl" --json >"$dir/score.json" || fail "colosim score failed"
-  check "$dir" "$assets/experts/references.json" <<'PY'
-import json, sys
-d, refs_path = sys.argv[1], sys.argv[2]
+  check "$dir" "$assets/sessions/expert/free_insertion.jsonl.gz" <<'PY'
+import gzip, json, sys
+d, expert_path = sys.argv[1], sys.argv[2]
 out = json.load(open(d + "/out.json"))
 scored = json.load(open(d + "/score.json"))[0]
 scores = scored.get("scores", scored)
-refs = json.load(open(refs_path))
-expert = refs["experts"][refs["references"]["free_insertion"]]["scores"]
+# The expert's scores: the end line of the shipped expert session.
+with gzip.open(expert_path, "rt") as f:
+    for line in f:
+        pass
+expert = json.loads(line)["summary"]["scores"]
 assert out["screens"] == ["session", "score_card"], out["screens"]
 assert out["ended_by"] == "end"
 card = out["score_card"]
