@@ -66,8 +66,25 @@ const char* const kTrainKeyHelp =
 
 namespace {
 
-// Keyboard and gamepad, polled once per frame.
-ControlState pollControls(GLFWwindow* w, bool* have_gamepad, std::string* gamepad_name) {
+// GamepadState's indices are GLFW's.
+static_assert(GLFW_GAMEPAD_AXIS_LAST + 1 == std::tuple_size<decltype(GamepadState::axes)>::value);
+static_assert(GLFW_GAMEPAD_BUTTON_LAST + 1 == std::tuple_size<decltype(GamepadState::buttons)>::value);
+
+// The first joystick GLFW has a gamepad mapping for.
+bool readGlfwGamepad(GamepadState* state, std::string* name) {
+  for (int jid = GLFW_JOYSTICK_1; jid <= GLFW_JOYSTICK_LAST; ++jid) {
+    GLFWgamepadstate pad;
+    if (!glfwJoystickIsGamepad(jid) || !glfwGetGamepadState(jid, &pad)) continue;
+    for (size_t k = 0; k < state->axes.size(); ++k) state->axes[k] = pad.axes[k];
+    for (size_t k = 0; k < state->buttons.size(); ++k) state->buttons[k] = pad.buttons[k] == GLFW_PRESS;
+    if (name->empty()) *name = glfwGetGamepadName(jid) ? glfwGetGamepadName(jid) : "gamepad";
+    return true;
+  }
+  return false;
+}
+
+// Keyboard and gamepad (nullptr: none), polled once per frame.
+ControlState pollControls(GLFWwindow* w, const GamepadState* pad) {
   auto down = [w](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
   ControlState c;
   c.push = down(GLFW_KEY_W) || down(GLFW_KEY_UP);
@@ -80,20 +97,14 @@ ControlState pollControls(GLFWwindow* w, bool* have_gamepad, std::string* gamepa
   c.tip_right = down(GLFW_KEY_L);
   c.fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT);
   c.centre_knobs = down(GLFW_KEY_SPACE);
-  *have_gamepad = false;
-  for (int jid = GLFW_JOYSTICK_1; jid <= GLFW_JOYSTICK_LAST; ++jid) {
-    GLFWgamepadstate pad;
-    if (!glfwJoystickIsGamepad(jid) || !glfwGetGamepadState(jid, &pad)) continue;
-    *have_gamepad = true;
-    if (gamepad_name->empty()) *gamepad_name = glfwGetGamepadName(jid) ? glfwGetGamepadName(jid) : "gamepad";
+  if (pad) {
     // GLFW's sticks: +y is down.
-    c.axis_insertion = -pad.axes[GLFW_GAMEPAD_AXIS_LEFT_Y];
-    c.axis_rotation = pad.axes[GLFW_GAMEPAD_AXIS_LEFT_X];
-    c.axis_updown = -pad.axes[GLFW_GAMEPAD_AXIS_RIGHT_Y];
-    c.axis_leftright = pad.axes[GLFW_GAMEPAD_AXIS_RIGHT_X];
-    c.fast = c.fast || pad.buttons[GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER] == GLFW_PRESS;
-    c.centre_knobs = c.centre_knobs || pad.buttons[GLFW_GAMEPAD_BUTTON_A] == GLFW_PRESS;
-    break;
+    c.axis_insertion = -pad->axes[GLFW_GAMEPAD_AXIS_LEFT_Y];
+    c.axis_rotation = pad->axes[GLFW_GAMEPAD_AXIS_LEFT_X];
+    c.axis_updown = -pad->axes[GLFW_GAMEPAD_AXIS_RIGHT_Y];
+    c.axis_leftright = pad->axes[GLFW_GAMEPAD_AXIS_RIGHT_X];
+    c.fast = c.fast || pad->buttons[GLFW_GAMEPAD_BUTTON_RIGHT_BUMPER];
+    c.centre_knobs = c.centre_knobs || pad->buttons[GLFW_GAMEPAD_BUTTON_A];
   }
   return c;
 }
@@ -111,15 +122,8 @@ class ViewKeys {
  public:
   explicit ViewKeys(std::string view) : view_(std::move(view)) {}
   const std::string& view() const { return view_; }
-  void poll(GLFWwindow* w, bool have_gamepad) {
-    bool back = false;
-    for (int jid = GLFW_JOYSTICK_1; jid <= GLFW_JOYSTICK_LAST && have_gamepad; ++jid) {
-      GLFWgamepadstate pad;
-      if (glfwJoystickIsGamepad(jid) && glfwGetGamepadState(jid, &pad)) {
-        back = pad.buttons[GLFW_GAMEPAD_BUTTON_BACK] == GLFW_PRESS;
-        break;
-      }
-    }
+  void poll(GLFWwindow* w, const GamepadState* pad) {
+    const bool back = pad && pad->buttons[GLFW_GAMEPAD_BUTTON_BACK];
     const bool now_down[4] = {glfwGetKey(w, GLFW_KEY_1) == GLFW_PRESS, glfwGetKey(w, GLFW_KEY_2) == GLFW_PRESS,
                               glfwGetKey(w, GLFW_KEY_3) == GLFW_PRESS,
                               glfwGetKey(w, GLFW_KEY_V) == GLFW_PRESS || back};
@@ -168,7 +172,7 @@ class ActionKeys {
   // Which actions were pressed since the last poll: keys from the window's press events
   // (never missed, even when pressed and released within a busy frame), gamepad buttons
   // on their press.
-  std::array<bool, kActionCount> poll(const std::vector<int>& key_presses) {
+  std::array<bool, kActionCount> poll(const std::vector<int>& key_presses, const GamepadState* pad) {
     std::array<bool, kActionCount> pressed{};
     for (int k : key_presses) {
       if (k == GLFW_KEY_UP || k == GLFW_KEY_W) pressed[kUp] = true;
@@ -184,11 +188,7 @@ class ActionKeys {
       if (k == GLFW_KEY_T) pressed[kTurn] = true;
       if (k == GLFW_KEY_F) pressed[kStiffness] = true;
     }
-    GLFWgamepadstate pad{};
-    bool have_pad = false;
-    for (int jid = GLFW_JOYSTICK_1; jid <= GLFW_JOYSTICK_LAST && !have_pad; ++jid)
-      have_pad = glfwJoystickIsGamepad(jid) && glfwGetGamepadState(jid, &pad);
-    auto button = [&](int b) { return have_pad && pad.buttons[b] == GLFW_PRESS; };
+    auto button = [&](int b) { return pad && pad->buttons[b]; };
     const std::array<bool, kActionCount> down{button(GLFW_GAMEPAD_BUTTON_DPAD_UP),
                                               button(GLFW_GAMEPAD_BUTTON_DPAD_DOWN),
                                               button(GLFW_GAMEPAD_BUTTON_DPAD_LEFT),
@@ -512,7 +512,7 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
 
   ViewKeys view(o.view);
   ActionKeys actions;
-  bool have_gamepad = false, said_gamepad = false;
+  bool said_gamepad = false;
   std::string gamepad_name;
   Snapshot snap;
   const auto start = std::chrono::steady_clock::now();
@@ -562,14 +562,18 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
       window.pollEvents();
       if (window.shouldClose()) break;
       GLFWwindow* w = window.handle();
-      const std::array<bool, kActionCount> pressed = actions.poll(window.takeKeyPresses());
-      window.setMouseBlocked(gui.wantsMouse());
-      const ControlState controls = pollControls(w, &have_gamepad, &gamepad_name);
+      GamepadState pad_state;
+      const bool have_gamepad =
+          o.gamepad ? o.gamepad(&pad_state, &gamepad_name) : readGlfwGamepad(&pad_state, &gamepad_name);
+      const GamepadState* pad = have_gamepad ? &pad_state : nullptr;
       if (have_gamepad && !said_gamepad) {
         std::fprintf(stderr, "colosim train: gamepad: %s\n", gamepad_name.c_str());
         said_gamepad = true;
       }
-      view.poll(w, have_gamepad);
+      const std::array<bool, kActionCount> pressed = actions.poll(window.takeKeyPresses(), pad);
+      window.setMouseBlocked(gui.wantsMouse());
+      const ControlState controls = pollControls(w, pad);
+      view.poll(w, pad);
       window.setGlobalViewLeft(view.view() == "both" ? 0.5 : view.view() == "global" ? 0.0 : 1.0);
 
       // The screen's actions.

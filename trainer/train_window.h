@@ -5,6 +5,8 @@
 // time on its own thread and records the session. docs/trainer-window.md.
 #pragma once
 
+#include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +19,20 @@ namespace colosim {
 
 /// The keys and gamepad controls, for --help.
 extern const char* const kTrainKeyHelp;
+
+/// A gamepad as GLFW's standard layout reads it (the SDL game-controller mapping).
+struct GamepadState {
+  /// left stick x, y; right stick x, y (in [-1, 1]; +y is down, as GLFW gives it); left
+  /// and right trigger.
+  std::array<float, 6> axes{};
+  /// A, B, X, Y, left and right bumper, Back, Start, Guide, left and right stick pressed,
+  /// d-pad up, right, down, left (GLFW_GAMEPAD_BUTTON_* order).
+  std::array<bool, 15> buttons{};
+};
+
+/// Reads a gamepad once a frame: fills `state` (and `name`, when empty) and returns true
+/// when there is one.
+using GamepadReader = std::function<bool(GamepadState* state, std::string* name)>;
 
 struct TrainWindowOptions {
   int width_px = 1280, height_px = 480;  ///< window size [px]
@@ -34,6 +50,9 @@ struct TrainWindowOptions {
   double render_scale = 0.7;             ///< onboard view drawn at this fraction of its size (render/camera.h)
   std::string screenshot;                ///< PNG of the last frame (a new file); empty: none
   std::string colosim_version;           ///< recorded in the session header
+  /// Where the gamepad is read from; empty: the first joystick GLFW has a gamepad mapping
+  /// for. Tests drive the window with a scripted gamepad through it.
+  GamepadReader gamepad;
 };
 
 /// What a window session leaves, for the exit summary: the last session's figures, and
