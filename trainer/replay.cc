@@ -75,20 +75,20 @@ ReplayPlan planReplay(const std::string& session_path) {
   } catch (const InputError& e) {
     throw InputError(session_path + ":1: scenario: " + e.what());
   }
-  // The parameter file the run used in place of the scenario's, as colosim run --params did.
-  if (!h.params.empty()) {
+  // A file the run used in place of the scenario's (header key `key`) must still exist.
+  auto requireRecordedFile = [&](const std::string& key, const std::string& what, const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(h.params, ec))
-      throw InputError(session_path + ":1: params: the parameter file " + h.params +
+    if (!std::filesystem::is_regular_file(path, ec))
+      throw InputError(session_path + ":1: " + key + ": the " + what + " " + path +
                        " the session was recorded with does not exist");
+  };
+  // The parameter file (colosim run --params) and the scope design (--scope) of the run.
+  if (!h.params.empty()) {
+    requireRecordedFile("params", "parameter file", h.params);
     useParameterFile(p.scenario, h.params);
   }
-  // The scope design the run used in place of the scenario's.
   if (!h.scope.empty()) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(h.scope, ec))
-      throw InputError(session_path + ":1: scope: the scope design " + h.scope +
-                       " the session was recorded with does not exist");
+    requireRecordedFile("scope", "scope design", h.scope);
     useScopeDesign(p.scenario, h.scope);
   }
   // The patient position the trainee chose on the trainer's start screen.
