@@ -163,11 +163,15 @@ Scenario parseScenario(const std::string& text, const std::string& path) {
 
 Scenario loadScenario(const std::string& path) {
   Scenario s = parseScenario(readTextFile(path), path);
-  // A shipped scenario is named by its name, so that sessions replay on other machines.
+  // A shipped scenario (or bench specimen) is named by its name, so that sessions and
+  // recordings replay on other machines.
   std::error_code ec;
-  const fs::path shipped = fs::path(assetDir()) / "scenarios" / (s.name + ".json");
-  if (fs::equivalent(shipped, path, ec)) s.id = s.name;
-  else s.id = fs::absolute(path).lexically_normal().string();
+  const fs::path scenarios = fs::path(assetDir()) / "scenarios";
+  if (fs::equivalent(scenarios / (s.name + ".json"), path, ec) ||
+      fs::equivalent(scenarios / "bench" / (s.name + ".json"), path, ec))
+    s.id = s.name;
+  else
+    s.id = fs::absolute(path).lexically_normal().string();
   return s;
 }
 
@@ -186,8 +190,11 @@ std::string resolveScenarioPath(const std::string& name_or_path) {
   if (name_or_path.find('/') == std::string::npos && !name_or_path.empty()) {
     std::string file = name_or_path;
     if (fs::path(file).extension() != ".json") file += ".json";
-    const fs::path shipped = fs::path(assetDir()) / "scenarios" / file;
-    if (fs::is_regular_file(shipped, ec)) return shipped.string();
+    // The training scenarios, then the identification bench's specimens (scenarios/bench/:
+    // not training scenarios, so not in shippedScenarioNames; docs/organ-identification.md).
+    for (const fs::path& shipped : {fs::path(assetDir()) / "scenarios" / file,
+                                    fs::path(assetDir()) / "scenarios" / "bench" / file})
+      if (fs::is_regular_file(shipped, ec)) return shipped.string();
   }
   std::string list;
   for (const std::string& n : shippedScenarioNames()) list += (list.empty() ? "" : ", ") + n;

@@ -110,12 +110,12 @@ Scenario loadScenario(const std::string& path);
 Scenario parseScenario(const std::string& text, const std::string& file);
 
 /// SCENARIO as users give it: an existing file, or the name of a file in
-/// assets/scenarios/ (with or without ".json"). InputError listing the shipped names
-/// when neither exists.
+/// assets/scenarios/ (with or without ".json"), else in assets/scenarios/bench/ (the
+/// identification bench's specimens). InputError listing the shipped names when none exists.
 std::string resolveScenarioPath(const std::string& name_or_path);
 /// resolveScenarioPath then loadScenario.
 Scenario findScenario(const std::string& name_or_path);
-/// Names of the shipped scenarios, sorted.
+/// Names of the shipped training scenarios (assets/scenarios/*.json), sorted.
 std::vector<std::string> shippedScenarioNames();
 
 /// An error found in a scenario after it was read ("FILE: key.path: what"), with the line

@@ -1,7 +1,7 @@
 #!/bin/sh
 # The trainer window's screens driven by real key presses (XTEST through xdotool) under a
 # virtual X server. Usage: train_screens.sh COLOSIM XVFB_RUN CASE   (needs xdotool, python3)
-#   start      the start screen appears; Down Down Right Enter chooses sigmoid_push in the
+#   start      the start screen appears; Down Right Enter chooses sigmoid_push in the
 #              right lateral position; the session records both and replays bit-identically
 #   pause      P pauses for ~1.3 s: no step between the paused and resumed events; R restarts
 #              into a new session; both sessions replay bit-identically
@@ -30,7 +30,7 @@ set -eu
 pid=\$!
 xdotool search --sync --name "colosim train" >/dev/null
 sleep 0.5
-sh "$dir/press.sh" Down Down Right Return
+sh "$dir/press.sh" Down Right Return
 sleep 1.5
 sh "$dir/press.sh" Escape q
 wait "\$pid"
