@@ -28,9 +28,7 @@ ScopeDesign designFromJson(const std::string& text, const std::string& file) {
   d.mass_per_length_kg_per_m = top.quantity("mass_per_length", "kg/m", 0.01, 5.0);
 
   JsonObject profile = top.object("stiffness_profile");
-  const nlohmann::json& sections = profile.raw("sections");
-  if (!sections.is_array() || sections.empty() || sections.size() > 1000)
-    profile.fail("sections", "expected a list of 1 to 1000 sections from the tip");
+  const nlohmann::json& sections = profile.list("sections", 1, 1000, "sections from the tip");
   for (size_t i = 0; i < sections.size(); ++i) {
     JsonObject s(sections[i], file, profile.keyPath("sections[" + std::to_string(i) + "]"));
     StiffnessSection sec;
@@ -85,9 +83,7 @@ ScopeDesign designFromJson(const std::string& text, const std::string& file) {
     if (!(vs.to_m > vs.from_m)) v.fail("to_m", "must be beyond from_m");
     if (!(vs.to_m <= d.working_length_m + 1e-9))
       v.fail("to_m", "must be within the working length (" + std::to_string(d.working_length_m) + " m)");
-    const nlohmann::json& levels = v.raw("levels");
-    if (!levels.is_array() || levels.size() < 2 || levels.size() > static_cast<size_t>(kStiffnessLevelsMax))
-      v.fail("levels", "expected a list of 2 to " + std::to_string(kStiffnessLevelsMax) + " EI multipliers");
+    const nlohmann::json& levels = v.list("levels", 2, kStiffnessLevelsMax, "EI multipliers");
     for (size_t i = 0; i < levels.size(); ++i) {
       if (!levels[i].is_number()) v.fail("levels", "level " + std::to_string(i) + " is not a number");
       const double x = levels[i].get<double>();

@@ -107,6 +107,14 @@ const nlohmann::json& JsonObject::raw(const std::string& key) {
   return j_.at(key);
 }
 
+const nlohmann::json& JsonObject::list(const std::string& key, size_t min_size, size_t max_size,
+                                       const std::string& entries) {
+  const nlohmann::json& v = raw(key);
+  if (!v.is_array() || v.size() < min_size || v.size() > max_size)
+    fail(key, "expected a list of " + std::to_string(min_size) + " to " + std::to_string(max_size) + " " + entries);
+  return v;
+}
+
 void JsonObject::ignore(const std::string& key) { used_.insert(key); }
 
 double JsonObject::number(const std::string& key, double lo, double hi) {

@@ -48,6 +48,10 @@ class JsonObject {
   std::string string(const std::string& key);
   std::string choice(const std::string& key, const std::vector<std::string>& allowed);
   JsonObject object(const std::string& key);
+  /// An array of between min_size and max_size entries (of any type; the caller reads
+  /// them), else "expected a list of MIN to MAX `entries`".
+  const nlohmann::json& list(const std::string& key, size_t min_size, size_t max_size,
+                             const std::string& entries = "entries");
   /// A 3-vector of finite numbers.
   Vec3 vec3(const std::string& key, double lo, double hi);
   /// A list of finite numbers in [lo, hi] with between min_size and max_size entries.

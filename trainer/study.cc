@@ -43,14 +43,7 @@ Study studyFromJson(const nlohmann::json& j, const std::string& path) {
   if (s.name.empty() || s.name.size() > 200) top.fail("name", "expected 1 to 200 characters");
   s.description = top.string("description");
 
-  auto list = [&](const std::string& key, size_t max) -> const nlohmann::json& {
-    const nlohmann::json& v = top.raw(key);
-    if (!v.is_array() || v.empty() || v.size() > max)
-      top.fail(key, "expected a list of 1 to " + std::to_string(max) + " entries");
-    return v;
-  };
-
-  const nlohmann::json& designs = list("designs", 1000);
+  const nlohmann::json& designs = top.list("designs", 1, 1000);
   std::set<std::string> names;
   for (size_t i = 0; i < designs.size(); ++i) {
     JsonObject d(designs[i], path, "designs[" + std::to_string(i) + "]");
@@ -78,7 +71,7 @@ Study studyFromJson(const nlohmann::json& j, const std::string& path) {
     s.designs.push_back(sd);
   }
 
-  const nlohmann::json& scenarios = list("scenarios", 1000);
+  const nlohmann::json& scenarios = top.list("scenarios", 1, 1000);
   for (size_t i = 0; i < scenarios.size(); ++i) {
     const std::string key = "scenarios[" + std::to_string(i) + "]";
     if (!scenarios[i].is_string() || scenarios[i].get<std::string>().empty())
@@ -94,7 +87,7 @@ Study studyFromJson(const nlohmann::json& j, const std::string& path) {
     s.scenarios.push_back(name);
   }
 
-  const nlohmann::json& strategies = list("strategies", 100);
+  const nlohmann::json& strategies = top.list("strategies", 1, 100);
   for (size_t i = 0; i < strategies.size(); ++i) {
     const std::string key = "strategies[" + std::to_string(i) + "]";
     StudyStrategy st;
@@ -114,7 +107,7 @@ Study studyFromJson(const nlohmann::json& j, const std::string& path) {
     s.strategies.push_back(st);
   }
 
-  const nlohmann::json& seeds = list("seeds", 100000);
+  const nlohmann::json& seeds = top.list("seeds", 1, 100000);
   for (size_t i = 0; i < seeds.size(); ++i) {
     const std::string key = "seeds[" + std::to_string(i) + "]";
     if (!seeds[i].is_number_integer() || seeds[i].get<long long>() < 0 || seeds[i].get<long long>() > 1000000000)

@@ -81,7 +81,7 @@ TEST(TrainWindow, AGamepadAloneChoosesDrivesPausesAndEnds) {
   pad.add(idle);
   pad.add(pressed(kA));          // start
   pad.add(idle, 3, 0.2);
-  pad.add(drive, 3, 2.0);
+  pad.add(drive, 3, 3.0);
   pad.add(idle, 3, 0.3);
   pad.add(pressed(kStart));      // pause
   pad.add(idle, 3, 1.0);
@@ -133,10 +133,10 @@ TEST(TrainWindow, AGamepadAloneChoosesDrivesPausesAndEnds) {
     max_insertion_m = std::max(max_insertion_m, in.input.insertion_m);
     max_updown_rad = std::max(max_updown_rad, in.input.knob_updown_rad);
   }
-  // 2 s of full stick at 3 cm/s and 1.5 rad/s, if physics keeps up with the wall clock;
-  // a third of that if it runs three times slower (sanitizers).
-  EXPECT_GT(max_insertion_m - first_insertion_m, 0.015) << "the left stick did not push the scope";
-  EXPECT_GT(max_updown_rad, 0.5) << "the right stick did not turn the up/down knob";
+  // 3 s of full stick: 9 cm and 4.5 rad when physics keeps up with the wall clock; a tenth
+  // of that still counts (sanitizers on a loaded machine), none does not.
+  EXPECT_GT(max_insertion_m - first_insertion_m, 0.009) << "the left stick did not push the scope";
+  EXPECT_GT(max_updown_rad, 0.45) << "the right stick did not turn the up/down knob";
   std::vector<const SessionEvent*> pauses;
   for (const SessionEvent& e : s.events)
     if (e.name == "paused" || e.name == "resumed") pauses.push_back(&e);
