@@ -38,7 +38,7 @@ std::vector<ExpertSession> loadExpertSessions(const std::string& dir_in) {
   std::sort(files.begin(), files.end());
   std::vector<ExpertSession> out;
   for (const std::string& f : files) {
-    const Session s = readSession(f);
+    const Session s = readSessionEnds(f);  // the scores are in the end line
     if (!s.complete) throw InputError(f + ": an expert session must be complete: " + s.message);
     if (!s.summary.contains("scores") || !s.summary["scores"].is_object())
       throw InputError(f + ":" + std::to_string(s.lines) + ": summary: no scores in the end line");

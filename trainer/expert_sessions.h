@@ -21,8 +21,8 @@ struct ExpertSession {
   nlohmann::json scores;    ///< Scorer::json() of the recorded run (the end line's summary.scores)
 };
 
-/// Reads every *.jsonl and *.jsonl.gz in `dir` (default: assets/sessions/expert), in
-/// file-name order.
+/// Reads the header and end line (readSessionEnds) of every *.jsonl and *.jsonl.gz in
+/// `dir` (default: assets/sessions/expert), in file-name order.
 /// InputError naming the file for a bad session, one without its end line or without
 /// scores in its summary. A missing folder gives none.
 std::vector<ExpertSession> loadExpertSessions(const std::string& dir = "");

@@ -70,7 +70,8 @@ SessionHeader readHeader(JsonObject& o) {
 namespace {
 
 // Reads line by line (an hour at 1 kHz is hundreds of MB: never the whole text at once).
-Session parseSessionStream(std::istream& in, const std::string& file) {
+// ends_only: the header and the last line only, the lines between skipped unread.
+Session parseSessionStream(std::istream& in, const std::string& file, bool ends_only = false) {
   Session s;
   s.file = file;
   if (in.peek() == std::char_traits<char>::eof()) throw InputError(file + ": empty file: not a session (no header line)");
@@ -83,6 +84,10 @@ Session parseSessionStream(std::istream& in, const std::string& file) {
     // getline stops at end of file without a newline only on the last, cut-off line.
     const bool has_newline = !in.eof();
     const std::string where = file + ":" + std::to_string(line);
+    if (ends_only && line > 1 && in.peek() != std::char_traits<char>::eof()) {
+      last_complete_line = s.lines = line;  // a line between: not read
+      continue;
+    }
 
     if (s.complete) throw InputError(where + ": content after the end line");
     if (content.empty()) throw InputError(where + ": empty line");
@@ -159,7 +164,8 @@ Session parseSessionStream(std::istream& in, const std::string& file) {
       if (steps < last_step)
         o.fail("step", "the session ends at step " + std::to_string(steps) + ", before its last record (step " +
                            std::to_string(last_step) + ")");
-      if (steps > 0 && s.inputs.empty()) o.fail("step", "steps were simulated but no input was recorded");
+      if (steps > 0 && s.inputs.empty() && !ends_only)
+        o.fail("step", "steps were simulated but no input was recorded");
       s.final_state_hash = readHash(o, "state_hash");
       const nlohmann::json& summary = o.raw("summary");
       if (!summary.is_object()) o.fail("summary", "expected a JSON object");
@@ -230,13 +236,15 @@ class GzReadBuffer : public std::streambuf {
 
 }  // namespace
 
-Session readSession(const std::string& path) {
+namespace {
+
+Session readSessionFile(const std::string& path, bool ends_only) {
   GzReadBuffer buffer(path);
   if (!buffer.isOpen()) throw InputError(path + ": cannot open file");
   std::istream in(&buffer);
   Session s;
   try {
-    s = parseSessionStream(in, path);
+    s = parseSessionStream(in, path, ends_only);
   } catch (const InputError&) {
     if (!buffer.error().empty()) throw InputError(path + ": not a readable gzip file: " + buffer.error());
     throw;
@@ -244,6 +252,12 @@ Session readSession(const std::string& path) {
   if (!buffer.error().empty()) throw InputError(path + ": not a readable gzip file: " + buffer.error());
   return s;
 }
+
+}  // namespace
+
+Session readSession(const std::string& path) { return readSessionFile(path, false); }
+
+Session readSessionEnds(const std::string& path) { return readSessionFile(path, true); }
 
 // ---------------------------------------------------------------------------------------
 

@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <future>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -408,12 +407,8 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
     throw InputError(o.screenshot + ": exists (a screenshot never overwrites a file)");
   if (!o.record.empty() && std::filesystem::exists(o.record))
     throw InputError(o.record + ": exists (a session never overwrites a file); choose a new name or --record-dir");
-  // The expert sessions (the score card's references; free_insertion's is 240 s at 1 kHz)
-  // are read on a thread of their own while the trainee drives: the window opens at once.
-  std::future<std::vector<ExpertSession>> experts_loading =
-      std::async(std::launch::async, [] { return loadExpertSessions(); });
-  std::vector<ExpertSession> experts;
-  bool experts_loaded = false;
+  // The score card's references: the expert sessions' headers and end lines.
+  const std::vector<ExpertSession> experts = loadExpertSessions();
   // The start screen's list: the given scenario first when it is not a shipped one.
   std::vector<Scenario> scenarios;
   int selected = 0;
@@ -490,14 +485,6 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
     // The references are for the shipped scenarios only (a scenario file of the same name
     // elsewhere may differ): a shipped scenario's id is its name.
     const Scenario& sc = session->scenario;
-    if (!experts_loaded) {
-      experts_loaded = true;
-      try {
-        experts = experts_loading.get();
-      } catch (const std::exception& e) {  // the session is recorded: show its card without references
-        warn(std::string("the expert sessions cannot be read, the card has no expert column: ") + e.what());
-      }
-    }
     card_expert = sc.id == sc.name ? expertFor(sc, experts) : nullptr;
     card = scoreCard(session->result.scores, card_expert ? &card_expert->scores : nullptr);
     out.score_card = scoreCardJson(card);

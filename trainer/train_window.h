@@ -80,8 +80,7 @@ struct TrainWindowResult {
 /// closed (Q, or Escape on the start screen or score card), quit_after_s passes or a
 /// physics loop stops on an error. Every session is recorded; restart starts a new one.
 /// InputError before any window or file is opened when the screenshot or session file
-/// exists or a shipped scenario cannot be read. The expert sessions are read while the
-/// first session runs; when they cannot be, the score card says so and has no expert column.
+/// exists or a shipped scenario or expert session cannot be read.
 TrainWindowResult runTrainWindow(const Scenario& scenario, const TrainWindowOptions& options);
 
 }  // namespace colosim
