@@ -103,6 +103,11 @@ Session parseSessionStream(std::istream& in, const std::string& file, bool ends_
                   std::to_string(last_complete_line) + " complete lines, " + std::to_string(last_step) + " steps";
       break;
     }
+    const bool end_line = j.is_object() && j.contains("type") && j["type"].is_string() && j["type"] == "end";
+    if (ends_only && line > 1 && !end_line) {
+      last_complete_line = s.lines = line;  // the last line, not an end line: the session is cut
+      continue;
+    }
     JsonObject o(j, where);
     const std::string type = o.choice("type", {"header", "input", "assist", "event", "checkpoint", "end"});
     if (!have_header && type != "header") o.fail("type", "the first line must be the header, got '" + type + "'");

@@ -262,6 +262,25 @@ TEST(Session, GzipCompressedReadsAsThePlainOne) {
   }
 }
 
+// The header and end line alone (what the expert references need) agree with the whole
+// read; a file without its end line is not complete there either.
+TEST(Session, EndsOnlyAgreesWithTheWholeRead) {
+  Recorded r;
+  const Session whole = readSession(r.path), ends = readSessionEnds(r.path);
+  EXPECT_TRUE(ends.complete);
+  EXPECT_TRUE(ends.inputs.empty());
+  EXPECT_EQ(ends.header.scenario_hash, whole.header.scenario_hash);
+  EXPECT_EQ(ends.steps, whole.steps);
+  EXPECT_EQ(ends.lines, whole.lines);
+  EXPECT_EQ(ends.final_state_hash, whole.final_state_hash);
+  EXPECT_EQ(ends.summary, whole.summary);
+  std::vector<std::string> lines = splitLines(r.text);
+  lines.pop_back();
+  const Session cut = readSessionEnds(r.dir.write("cut.jsonl", joinLines(lines)));
+  EXPECT_FALSE(cut.complete);
+  EXPECT_TRUE(cut.truncated);
+}
+
 TEST(Session, NoEndLineIsATruncatedSession) {
   Recorded r;
   std::vector<std::string> lines = splitLines(r.text);
