@@ -270,8 +270,14 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
     : path_(path), header_(header) {
   if (!(header.dt_s > 0)) throw std::invalid_argument("SessionWriter: dt_s must be positive");
   checkpoint_steps_ = std::max(1L, std::lround(1.0 / header.dt_s));
-  f_ = std::fopen(path.c_str(), "wb");
-  if (!f_) throw std::runtime_error(path + ": cannot open for writing");
+  const std::string gz = ".gz";
+  if (path.size() > gz.size() && path.compare(path.size() - gz.size(), gz.size(), gz) == 0) {
+    gz_ = gzopen(path.c_str(), "wb6");
+    if (!gz_) throw std::runtime_error(path + ": cannot open for writing");
+  } else {
+    f_ = std::fopen(path.c_str(), "wb");
+    if (!f_) throw std::runtime_error(path + ": cannot open for writing");
+  }
   nlohmann::json j;
   j["type"] = "header";
   j["format"] = kSessionFormat;
@@ -289,18 +295,33 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
   j["mode"] = header.mode;
   if (!header.patient_position.empty()) j["patient_position"] = header.patient_position;
   writeLine(j);
-  std::fflush(f_);
+  flush();
 }
 
 SessionWriter::~SessionWriter() {
-  if (f_) std::fclose(f_);  // no end line: the file reads as truncated, which it is
+  close();  // no end line: the file reads as truncated, which it is
 }
 
 void SessionWriter::writeLine(const nlohmann::json& j) {
-  if (!f_) throw std::logic_error("SessionWriter: writing after end()");
+  if (!isOpen()) throw std::logic_error("SessionWriter: writing after end()");
   const std::string line = j.dump() + "\n";
-  if (std::fwrite(line.data(), 1, line.size(), f_) != line.size())
-    throw std::runtime_error(path_ + ": write failed");
+  const bool ok = gz_ ? gzwrite(gz_, line.data(), static_cast<unsigned>(line.size())) == static_cast<int>(line.size())
+                      : std::fwrite(line.data(), 1, line.size(), f_) == line.size();
+  if (!ok) throw std::runtime_error(path_ + ": write failed");
+}
+
+void SessionWriter::flush() {
+  if (gz_) gzflush(gz_, Z_SYNC_FLUSH);
+  else if (f_) std::fflush(f_);
+}
+
+bool SessionWriter::close() {
+  bool ok = true;
+  if (gz_) ok = gzclose(gz_) == Z_OK;
+  if (f_) ok = std::fclose(f_) == 0;
+  gz_ = nullptr;
+  f_ = nullptr;
+  return ok;
 }
 
 void SessionWriter::input(long step, const HandleInput& in) {
@@ -328,7 +349,7 @@ void SessionWriter::assist(long step, const AssistInput& a) {
   j["abdominal_pressure"] = a.abdominal_pressure;
   j["patient_position"] = a.patient_position;
   writeLine(j);
-  std::fflush(f_);
+  flush();
   last_assist_ = a;
   last_assist_step_ = step;
 }
@@ -341,7 +362,7 @@ void SessionWriter::event(long steps_done, const std::string& name, const std::s
   j["name"] = name;
   if (!detail.empty()) j["detail"] = detail;
   writeLine(j);
-  std::fflush(f_);
+  flush();
 }
 
 void SessionWriter::checkpoint(long steps_done, uint64_t state_hash) {
@@ -351,7 +372,7 @@ void SessionWriter::checkpoint(long steps_done, uint64_t state_hash) {
   j["t_s"] = static_cast<double>(steps_done) * header_.dt_s;
   j["state_hash"] = hashToHex(state_hash);
   writeLine(j);
-  std::fflush(f_);
+  flush();
 }
 
 void SessionWriter::end(long steps_done, uint64_t state_hash, const nlohmann::json& summary) {
@@ -362,9 +383,7 @@ void SessionWriter::end(long steps_done, uint64_t state_hash, const nlohmann::js
   j["state_hash"] = hashToHex(state_hash);
   j["summary"] = summary.is_object() ? summary : nlohmann::json::object();
   writeLine(j);
-  const bool ok = std::fclose(f_) == 0;
-  f_ = nullptr;
-  if (!ok) throw std::runtime_error(path_ + ": write failed");
+  if (!close()) throw std::runtime_error(path_ + ": write failed");
 }
 
 }  // namespace colosim

@@ -15,6 +15,8 @@
 #include "core/handle_input.h"
 #include "trainer/assist_input.h"
 
+struct gzFile_s;  // zlib's gzFile (the compressed session writer)
+
 namespace colosim {
 
 constexpr const char* kSessionFormat = "colosim-session";
@@ -114,6 +116,8 @@ std::string hashToHex(uint64_t h);
 
 /// Writes a session as it goes. Lines are flushed at every checkpoint (once per
 /// simulated second) and at events and the end, so a crash loses at most the last second.
+/// A path ending in ".gz" is written gzip-compressed (readSession reads it; each flush is
+/// a zlib sync point, so a crash leaves a readable prefix there too).
 class SessionWriter {
  public:
   /// Opens (creates or truncates) `path` and writes the header. Validate every input
@@ -143,8 +147,12 @@ class SessionWriter {
 
  private:
   void writeLine(const nlohmann::json& j);
+  void flush();
+  bool close();  ///< false when the last writes failed
+  bool isOpen() const { return f_ != nullptr || gz_ != nullptr; }
   std::string path_;
-  std::FILE* f_ = nullptr;
+  std::FILE* f_ = nullptr;        ///< a plain file, or
+  ::gzFile_s* gz_ = nullptr;      ///< a gzip-compressed one
   SessionHeader header_;
   long checkpoint_steps_ = 1000;
   long last_step_ = -1;

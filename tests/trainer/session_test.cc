@@ -262,6 +262,41 @@ TEST(Session, GzipCompressedReadsAsThePlainOne) {
   }
 }
 
+// A writer given NAME.jsonl.gz compresses; the file reads and replays as the plain one, and
+// a writer that stops without its end line (a crash) leaves a readable, truncated session.
+TEST(Session, WrittenGzipCompressedWhenTheNameSaysSo) {
+  Recorded r;
+  const std::string path = r.dir.file("s.jsonl.gz");
+  {
+    test::FakeSimulation sim(r.scenario);
+    SessionWriter w(path, sessionHeaderFor(r.scenario, "test"));
+    runScenario(r.scenario, sim, &w);
+  }
+  const std::string bytes = test::readFile(path);
+  ASSERT_GE(bytes.size(), 2u);
+  EXPECT_EQ(static_cast<unsigned char>(bytes[0]), 0x1f);  // the gzip magic
+  EXPECT_EQ(static_cast<unsigned char>(bytes[1]), 0x8b);
+  EXPECT_LT(bytes.size(), r.text.size());
+  const Session plain = readSession(r.path), packed = readSession(path);
+  EXPECT_TRUE(packed.complete);
+  EXPECT_EQ(packed.lines, plain.lines);
+  EXPECT_EQ(packed.final_state_hash, plain.final_state_hash);
+  const ReplayPlan plan = planReplay(path);
+  test::FakeSimulation sim(plan.scenario);
+  EXPECT_TRUE(replay(plan, sim).hashOk());
+
+  const std::string crashed = r.dir.file("crashed.jsonl.gz");
+  {
+    SessionWriter w(crashed, sessionHeaderFor(r.scenario, "test"));
+    w.input(0, HandleInput{});
+    w.checkpoint(100, 42);
+  }  // no end line
+  const Session cut = readSession(crashed);
+  EXPECT_FALSE(cut.complete);
+  EXPECT_TRUE(cut.truncated);
+  EXPECT_EQ(cut.checkpoints.size(), 1u);
+}
+
 // The header and end line alone (what the expert references need) agree with the whole
 // read; a file without its end line is not complete there either.
 TEST(Session, EndsOnlyAgreesWithTheWholeRead) {
