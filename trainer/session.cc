@@ -239,10 +239,6 @@ class GzReadBuffer : public std::streambuf {
   std::string error_;
 };
 
-}  // namespace
-
-namespace {
-
 Session readSessionFile(const std::string& path, bool ends_only) {
   GzReadBuffer buffer(path);
   if (!buffer.isOpen()) throw InputError(path + ": cannot open file");
