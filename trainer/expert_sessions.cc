@@ -12,11 +12,8 @@ namespace colosim {
 namespace {
 
 // NAME.jsonl, or NAME.jsonl.gz (gzip-compressed: readSession reads both).
-bool isSessionFileName(const std::string& name) {
-  auto endsWith = [&](const std::string& tail) {
-    return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
-  };
-  return endsWith(".jsonl") || endsWith(".jsonl.gz");
+bool isSessionFileName(const std::filesystem::path& file) {
+  return std::filesystem::path(withoutGzipSuffix(file.string())).extension() == ".jsonl";
 }
 
 bool sameStart(const Scenario& a, const Scenario& b) {
@@ -34,7 +31,7 @@ std::vector<ExpertSession> loadExpertSessions(const std::string& dir_in) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return {};
   for (const auto& e : fs::directory_iterator(dir, ec))
-    if (isSessionFileName(e.path().filename().string())) files.push_back(e.path().string());
+    if (isSessionFileName(e.path())) files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   std::vector<ExpertSession> out;
   for (const std::string& f : files) {

@@ -14,6 +14,13 @@
 
 namespace colosim {
 
+std::string withoutGzipSuffix(const std::string& path, bool* compressed) {
+  const std::string gz = kGzipSuffix;
+  const bool has = path.size() > gz.size() && path.compare(path.size() - gz.size(), gz.size(), gz) == 0;
+  if (compressed) *compressed = has;
+  return has ? path.substr(0, path.size() - gz.size()) : path;
+}
+
 std::string hashToHex(uint64_t h) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
@@ -266,8 +273,9 @@ SessionWriter::SessionWriter(const std::string& path, const SessionHeader& heade
     : path_(path), header_(header) {
   if (!(header.dt_s > 0)) throw std::invalid_argument("SessionWriter: dt_s must be positive");
   checkpoint_steps_ = std::max(1L, std::lround(1.0 / header.dt_s));
-  const std::string gz = ".gz";
-  if (path.size() > gz.size() && path.compare(path.size() - gz.size(), gz.size(), gz) == 0) {
+  bool compressed = false;
+  withoutGzipSuffix(path, &compressed);
+  if (compressed) {
     gz_ = gzopen(path.c_str(), "wb6");
     if (!gz_) throw std::runtime_error(path + ": cannot open for writing");
   } else {

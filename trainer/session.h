@@ -111,6 +111,12 @@ Session readSessionEnds(const std::string& path);
 /// The same from text in memory; `file` names it in messages.
 Session parseSession(const std::string& text, const std::string& file);
 
+/// The gzip suffix of a compressed session's name (NAME.jsonl.gz): SessionWriter
+/// compresses a path ending in it; readSession reads either.
+inline constexpr const char* kGzipSuffix = ".gz";
+/// `path` without its gzip suffix when it has one (`*compressed` says whether it had).
+std::string withoutGzipSuffix(const std::string& path, bool* compressed = nullptr);
+
 /// 16 lowercase hex digits.
 std::string hashToHex(uint64_t h);
 

@@ -232,15 +232,13 @@ struct ActiveSession {
 // NAME-2.jsonl, NAME-3.jsonl, ... created exclusively (never an existing file).
 std::string recordPath(const std::string& record, int n) {
   if (n == 1) return record;
-  // NAME-K.jsonl.gz for a compressed NAME.jsonl.gz, else NAME-K.EXT.
-  const std::string gz = ".jsonl.gz";
-  const bool compressed = record.size() > gz.size() && record.compare(record.size() - gz.size(), gz.size(), gz) == 0;
-  const std::string base = compressed ? record.substr(0, record.size() - gz.size()) : "";
-  const std::filesystem::path p(record);
+  // NAME-K.EXT, and NAME-K.EXT.gz for a compressed NAME.EXT.gz.
+  bool compressed = false;
+  const std::filesystem::path p(withoutGzipSuffix(record, &compressed));
   for (int k = n; k < n + 10000; ++k) {
     const std::string path =
-        compressed ? base + "-" + std::to_string(k) + gz
-                   : (p.parent_path() / (p.stem().string() + "-" + std::to_string(k) + p.extension().string())).string();
+        (p.parent_path() / (p.stem().string() + "-" + std::to_string(k) + p.extension().string())).string() +
+        (compressed ? kGzipSuffix : "");
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
     if (fd >= 0) {
       ::close(fd);

@@ -277,6 +277,11 @@ TEST(Session, WrittenGzipCompressedWhenTheNameSaysSo) {
   EXPECT_EQ(static_cast<unsigned char>(bytes[0]), 0x1f);  // the gzip magic
   EXPECT_EQ(static_cast<unsigned char>(bytes[1]), 0x8b);
   EXPECT_LT(bytes.size(), r.text.size());
+  bool compressed = false;
+  EXPECT_EQ(withoutGzipSuffix(path, &compressed), r.dir.file("s.jsonl"));
+  EXPECT_TRUE(compressed);
+  EXPECT_EQ(withoutGzipSuffix(r.path, &compressed), r.path);
+  EXPECT_FALSE(compressed);
   const Session plain = readSession(r.path), packed = readSession(path);
   EXPECT_TRUE(packed.complete);
   EXPECT_EQ(packed.lines, plain.lines);
