@@ -1,6 +1,7 @@
 #include "trainer/scenario.h"
 
 #include <algorithm>
+#include <array>
 #include <climits>
 #include <cmath>
 #include <filesystem>
@@ -147,6 +148,14 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
   return s;
 }
 
+// The folders a scenario is found in by its name: the training scenarios, then the
+// identification bench's specimens (scenarios/bench/: not training scenarios, so not in
+// shippedScenarioNames; docs/organ-identification.md).
+std::array<fs::path, 2> namedScenarioDirs() {
+  const fs::path scenarios = fs::path(assetDir()) / "scenarios";
+  return {scenarios, scenarios / "bench"};
+}
+
 }  // namespace
 
 Scenario parseScenario(const std::string& text, const std::string& path) {
@@ -166,12 +175,9 @@ Scenario loadScenario(const std::string& path) {
   // A shipped scenario (or bench specimen) is named by its name, so that sessions and
   // recordings replay on other machines.
   std::error_code ec;
-  const fs::path scenarios = fs::path(assetDir()) / "scenarios";
-  if (fs::equivalent(scenarios / (s.name + ".json"), path, ec) ||
-      fs::equivalent(scenarios / "bench" / (s.name + ".json"), path, ec))
-    s.id = s.name;
-  else
-    s.id = fs::absolute(path).lexically_normal().string();
+  s.id = fs::absolute(path).lexically_normal().string();
+  for (const fs::path& dir : namedScenarioDirs())
+    if (fs::equivalent(dir / (s.name + ".json"), path, ec)) s.id = s.name;
   return s;
 }
 
@@ -190,11 +196,8 @@ std::string resolveScenarioPath(const std::string& name_or_path) {
   if (name_or_path.find('/') == std::string::npos && !name_or_path.empty()) {
     std::string file = name_or_path;
     if (fs::path(file).extension() != ".json") file += ".json";
-    // The training scenarios, then the identification bench's specimens (scenarios/bench/:
-    // not training scenarios, so not in shippedScenarioNames; docs/organ-identification.md).
-    for (const fs::path& shipped : {fs::path(assetDir()) / "scenarios" / file,
-                                    fs::path(assetDir()) / "scenarios" / "bench" / file})
-      if (fs::is_regular_file(shipped, ec)) return shipped.string();
+    for (const fs::path& dir : namedScenarioDirs())
+      if (fs::is_regular_file(dir / file, ec)) return (dir / file).string();
   }
   std::string list;
   for (const std::string& n : shippedScenarioNames()) list += (list.empty() ? "" : ", ") + n;
