@@ -1,13 +1,8 @@
 #include "trainer/score_card.h"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-
-#include "trainer/assets.h"
-#include "trainer/strict_json.h"
 
 namespace colosim {
 
