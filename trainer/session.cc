@@ -254,8 +254,7 @@ Session readSessionFile(const std::string& path, bool ends_only) {
   try {
     s = parseSessionStream(in, path, ends_only);
   } catch (const InputError&) {
-    if (!buffer.error().empty()) throw InputError(path + ": not a readable gzip file: " + buffer.error());
-    throw;
+    if (buffer.error().empty()) throw;  // else the parser choked on what zlib could not decompress
   }
   if (!buffer.error().empty()) throw InputError(path + ": not a readable gzip file: " + buffer.error());
   return s;

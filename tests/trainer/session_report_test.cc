@@ -78,6 +78,7 @@ TEST(ExpertSessions, TheShippedOnesAreThePinnedRunsAndMatchTheirManoeuvres) {
     const ExpertSession* e = expertFor(findScenario(name), experts, &why);
     ASSERT_NE(e, nullptr) << name;
     EXPECT_EQ(why, "same scenario");
+    // Read whole (the loader reads only the header and end line): every line is checked too.
     EXPECT_EQ(hashToHex(readSession(e->file).final_state_hash),
               golden["scenario_final_state_hash"][name].get<std::string>())
         << "the simulation changed: record " << e->file << " again (docs/file-formats.md, Expert references)";
