@@ -17,12 +17,12 @@
 
 #include "bench/registry.h"
 #include "core/colon_step.h"
+#include "core/numbers.h"
 #include "core/scope_step.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
 #include "trainer/score.h"
 #include "trainer/world_simulation.h"
-#include "core/numbers.h"
 
 namespace colosim {
 

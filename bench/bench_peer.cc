@@ -15,9 +15,9 @@
 
 #include "bench/timing.h"
 #include "collision/contact_query.h"
+#include "core/numbers.h"
 #include "core/scope_step.h"
 #include "trainer/assets.h"
-#include "core/numbers.h"
 
 #ifdef COLOSIM_HAVE_MUJOCO
 #include <mujoco/mujoco.h>

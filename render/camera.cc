@@ -5,8 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "render/frames.h"
 #include "core/numbers.h"
+#include "render/frames.h"
 
 namespace colosim {
 

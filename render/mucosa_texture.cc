@@ -1,10 +1,11 @@
 #include "render/mucosa_texture.h"
-#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
+
+#include "core/numbers.h"
 
 namespace colosim {
 

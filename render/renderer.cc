@@ -1,5 +1,4 @@
 #include "render/renderer.h"
-#include "core/numbers.h"
 
 #include <glad/gl.h>
 
@@ -7,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/numbers.h"
 
 namespace colosim {
 

@@ -1,10 +1,11 @@
 #include "render/tube_mesh.h"
-#include "core/numbers.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "core/numbers.h"
 
 namespace colosim {
 

@@ -13,13 +13,13 @@
 #include "core/colon_step.h"
 #include "core/input_error.h"
 #include "core/lumen_check.h"
+#include "core/numbers.h"
 #include "core/scope_step.h"
 #include "trainer/assets.h"
 #include "trainer/colon_simulation.h"
 #include "trainer/json_position.h"
 #include "trainer/scenario.h"
 #include "trainer/start_state.h"
-#include "core/numbers.h"
 
 namespace colosim {
 
