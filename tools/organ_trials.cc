@@ -4,12 +4,14 @@
 // not use (identify/insertion/synthetic.h drawTwoRateInsertion: from 40-50 cm a slow push,
 // a hold, a quick push, a hold, a withdrawal; rotation wiggle, both knobs).
 //   organ_trials [--seeds N] [--first-seed S] [--duration S] [--effects none,wall_friction,...]
-//                [--no-mismatch] [--search-spacing M] [--threads T] [--verbose]
+//                [--no-mismatch] [--search-spacing M] [--threads T] [--verbose] [--report DIR]
 // prints one line per case as it ends (hidden, named, magnitudes, held-out gain, RMSE over
 // the sensor noise, unexplained, replays, wall time), then the confusion table (rows: hidden
 // effect; columns: the first effect named, or none) and per class: named right, a wrong
 // name, nothing named, the median magnitude error of right names, and for the data with
-// nothing hidden the largest RMSE of the paper's model over the sensor noise.
+// nothing hidden the largest RMSE of the paper's model over the sensor noise. --report DIR
+// writes the table as a heat map (confusion.png, gnuplot), its data, the text and every case
+// as JSON (identify.json).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,8 +22,11 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "identify/insertion/identify.h"
 #include "identify/insertion/synthetic.h"
+#include "identify/report.h"
 
 namespace {
 
@@ -49,6 +54,7 @@ int main(int argc, char** argv) {
   bool mismatch = true;
   bool verbose = false;  // each case's candidates and diagnosis
   double search_spacing_m = 0.03;  // [m]; the data's (0.015 m): no coarse search
+  std::string report;  // folder for --report; empty: none
   std::vector<std::string> effects = {"none"};
   for (const std::string& e : organEffectNames()) effects.push_back(e);
   for (int i = 1; i < argc; ++i) {
@@ -68,10 +74,11 @@ int main(int argc, char** argv) {
     else if (a == "--verbose") verbose = true;
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--search-spacing") search_spacing_m = std::atof(next().c_str());
+    else if (a == "--report") report = next();
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--first-seed S] [--duration S] [--effects none,EFFECT,...] [--no-mismatch] "
-                   "[--search-spacing M] [--threads T] [--verbose]\n",
+                   "[--search-spacing M] [--threads T] [--verbose] [--report DIR]\n",
                    argv[0]);
       return 2;
     }
@@ -104,7 +111,8 @@ int main(int argc, char** argv) {
   // confusion[hidden][named first]
   std::map<std::string, std::map<std::string, int>> confusion;
   std::map<std::string, std::vector<double>> value_error, over_noise;
-  std::map<std::string, int> unexplained, right_second;
+  std::map<std::string, int> unexplained;
+  nlohmann::json cases = nlohmann::json::array();
   const auto t0 = std::chrono::steady_clock::now();
   for (size_t c = 0; c < effects.size(); ++c) {
     for (int s = 0; s < seeds; ++s) {
@@ -121,6 +129,10 @@ int main(int argc, char** argv) {
       if (index[c] < 0) over_noise[effects[c]].push_back(r.baseline.rmse_N / spec.force_noise_N);
       std::string all;
       for (const std::string& e : r.effects) all += (all.empty() ? "" : "+") + e;
+      cases.push_back({{"hidden", effects[c]}, {"seed", seed}, {"hidden_value", spec.value}, {"named", r.effects},
+                       {"named_value", found}, {"heldout_rmse_ratio", r.heldout_rmse_ratio},
+                       {"rmse_over_noise", ratio}, {"unexplained", r.unexplained}, {"simulations", r.simulations},
+                       {"seconds", r.seconds}});
       std::printf("%-21s seed %llu hidden %-9.4g named [%s] %.4g gain %.3f rmse/noise %.2f%s%s, %d replays, %.0f s\n",
                   effects[c].c_str(), seed, spec.value, all.c_str(), found,
                   r.heldout_rmse_ratio, ratio, r.unexplained ? " UNEXPLAINED" : "",
@@ -139,27 +151,69 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> cols = {"none"};
   for (const std::string& e : organEffectNames()) cols.push_back(e);
-  std::printf("\nConfusion table (rows hidden, columns the first effect named), %d seeds each, %.0f s wall:\n\n| hidden |",
-              seeds, wall);
-  for (const std::string& k : cols) std::printf(" %s |", k.c_str());
-  std::printf(" right | unexplained | median magnitude error |\n|---|");
-  for (size_t k = 0; k <= cols.size() + 2; ++k) std::printf("---|");
-  std::printf("\n");
+  std::string text;
+  char line[512];
+  auto add = [&](const char* fmt, auto... args) {
+    std::snprintf(line, sizeof line, fmt, args...);
+    text += line;
+  };
+  add("\nConfusion table (rows hidden, columns the first effect named), %d seeds each, %.0f s wall:\n\n| hidden |",
+      seeds, wall);
+  for (const std::string& k : cols) add(" %s |", k.c_str());
+  add(" right | unexplained | median magnitude error |\n|---|");
+  for (size_t k = 0; k <= cols.size() + 2; ++k) add("---|");
+  add("\n");
   for (const std::string& e : effects) {
-    std::printf("| %s |", e.c_str());
+    add("| %s |", e.c_str());
     int total = 0;
     for (const std::string& k : cols) {
       const int n = confusion[e][k];
       total += n;
-      std::printf(" %d |", n);
+      add(" %d |", n);
     }
-    std::printf(" %d/%d | %d |", confusion[e][e], total, unexplained[e]);
+    add(" %d/%d | %d |", confusion[e][e], total, unexplained[e]);
     if (e == "none") {
       const auto& v = over_noise[e];
-      std::printf(" (paper's model RMSE / noise: median %.2f, largest %.2f) |\n", median(v),
-                  v.empty() ? NAN : *std::max_element(v.begin(), v.end()));
+      add(" (paper's model RMSE / noise: median %.2f, largest %.2f) |\n", median(v),
+          v.empty() ? NAN : *std::max_element(v.begin(), v.end()));
     } else {
-      std::printf(" %.1f %% |\n", 100 * median(value_error[e]));
+      add(" %.1f %% |\n", 100 * median(value_error[e]));
+    }
+  }
+  std::printf("%s", text.c_str());
+  if (!report.empty()) {
+    // The table as a heat map: the fraction of each hidden class named as each answer.
+    std::string dat = "# hidden named fraction count\n", xt, yt;
+    for (size_t i = 0; i < effects.size(); ++i) {
+      for (size_t k = 0; k < cols.size(); ++k) {
+        const int n = confusion[effects[i]][cols[k]];
+        std::snprintf(line, sizeof line, "%zu %zu %.4f %d\n", i, k, static_cast<double>(n) / seeds, n);
+        dat += line;
+      }
+      dat += "\n";
+      yt += (i ? ", " : "") + ("'" + effects[i] + "' " + std::to_string(i));
+    }
+    for (size_t k = 0; k < cols.size(); ++k) xt += (k ? ", " : "") + ("'" + cols[k] + "' " + std::to_string(k));
+    const std::string gp =
+        "set terminal pngcairo noenhanced size 1000,800 font 'sans,10'\n"
+        "set output 'confusion.png'\n"
+        "set title 'Organ hidden-effect trials: fraction of each hidden class named first as each answer (" +
+        std::to_string(seeds) + " seeds per class)'\n"
+        "set xlabel 'named first'\nset ylabel 'hidden'\n"
+        "set xtics (" + xt + ") rotate by 45 right\nset ytics (" + yt + ")\n"
+        "set yrange [" + std::to_string(effects.size()) + " - 0.5:-0.5]\nset xrange [-0.5:" +
+        std::to_string(cols.size()) + " - 0.5]\n"
+        "set cbrange [0:1]\nset palette defined (0 'white', 1 '#1f77b4')\nunset key\n"
+        "plot 'confusion.dat' u 2:1:3 w image, '' u 2:1:($4 > 0 ? sprintf('%d', $4) : '') w labels font 'sans,8'\n";
+    const nlohmann::json result = {{"experiment", "organ_trials"}, {"seeds", seeds}, {"first_seed", first_seed},
+                                   {"duration_s", duration_s}, {"search_spacing_m", opt.search_spacing_m},
+                                   {"data_spacing_m", fine.params.colon.control_point_spacing_m},
+                                   {"mismatch_term", mismatch}, {"wall_s", wall}, {"cases", cases}};
+    try {
+      writeGnuplotReport(report, {{"confusion.dat", dat}}, gp, text, result);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "--report %s: %s\n", report.c_str(), e.what());
+      return 1;
     }
   }
   return 0;

@@ -27,6 +27,12 @@ std::vector<double> grid(const std::string& e) {
   if (e == "permanent_set") return {0.05, 0.12, 0.25, 0.5};
   throw std::invalid_argument("unknown organ effect '" + e + "'");
 }
+// The magnitudes v * f for each factor f.
+std::vector<double> around(double v, const std::vector<double>& factors) {
+  std::vector<double> out;
+  for (double f : factors) out.push_back(v * f);
+  return out;
+}
 double upperBound(const std::string& e) {
   if (e == "wall_friction") return 1.0;
   if (e == "colon_bending") return 1.0;
@@ -516,10 +522,9 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
                          crossValidate(rec, Evaluated{{0.0}, {fine_baseline}}, fold, o.folds).heldout_sse);
     model = r.baseline;
     std::vector<std::pair<double, std::string>> lead;  // (search's held-out ratio, effect) of round 1
-    std::map<std::string, double> search_value;
-    for (const CandidateEvidence& e : r.evidence)  // a magnitude of 0: from the grid's second value
-      if (e.round == 1)
-        lead.push_back({e.heldout_ratio, e.effect}), search_value[e.effect] = e.value > 0 ? e.value : grid(e.effect)[1];
+    std::map<std::string, double> search_value;  // 0: the search's best was magnitude 0
+    for (const CandidateEvidence& e : r.evidence)
+      if (e.round == 1) lead.push_back({e.heldout_ratio, e.effect}), search_value[e.effect] = e.value;
     std::stable_sort(lead.begin(), lead.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
     std::vector<std::string> fc;
     if (!chosen.empty()) fc.push_back(chosen.front());
@@ -527,9 +532,9 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       if (static_cast<int>(fc.size()) < o.fine_candidates && std::find(fc.begin(), fc.end(), l.second) == fc.end())
         fc.push_back(l.second);
     // A 1-D search of each listed effect at the data's resolution on top of `base` (whose
-    // prediction is the magnitude-0 member), starting from the factors around `from`.
+    // prediction is the magnitude-0 member), starting from the magnitudes `start[c]`.
     auto fineSearch = [&](const OrganParams& base, const Prediction& base_pred, const std::vector<std::string>& effs,
-                          const std::vector<double>& from, const std::vector<double>& factors) {
+                          const std::vector<std::vector<double>>& start) {
       std::vector<Evaluated> ev(effs.size(), Evaluated{{0.0}, {base_pred}});
       auto runStage = [&](const std::vector<std::vector<double>>& values) {
         std::vector<OrganParams> jobs;
@@ -551,8 +556,8 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       };
       std::vector<std::vector<double>> values(effs.size());
       for (size_t c = 0; c < effs.size(); ++c)
-        for (double f : factors) {
-          const double v = std::min(upperBound(effs[c]), from[c] * f);
+        for (double s : start[c]) {
+          const double v = std::min(upperBound(effs[c]), s);
           if (std::find(values[c].begin(), values[c].end(), v) == values[c].end()) values[c].push_back(v);
         }
       runStage(values);
@@ -613,25 +618,38 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     std::vector<std::string> fine_chosen;
     OrganParams fine_current;
     if (!fc.empty()) {
-      std::vector<double> from;
-      for (const std::string& e : fc) from.push_back(search_value.count(e) ? search_value[e] : organEffectValue(current, e));
-      std::vector<Evaluated> ev = fineSearch(OrganParams{}, fine_baseline, fc, from, {0.5, 1.0, 2.0});
+      // Around the search's magnitude; from the grid's second value when that was 0.
+      std::vector<std::vector<double>> from;
+      for (const std::string& e : fc) {
+        const double v = search_value.count(e) ? search_value[e] : organEffectValue(current, e);
+        from.push_back(around(v > 0 ? v : grid(e)[1], {0.5, 1.0, 2.0}));
+      }
+      std::vector<Evaluated> ev = fineSearch(OrganParams{}, fine_baseline, fc, from);
       std::vector<CvResult> cvs;
       int pick = fineWeigh(1, model, fc, ev, &cvs);
       // The leaders leave structure (no pick, or the pick unexplained): the search's ranking
       // is not to be trusted there (a nonlinear tension effect strains 3 cm elements otherwise
       // than 1.5 cm ones: the mismatch changes with it), so every other candidate is searched
-      // at the data's resolution too, from its grid's second value, and all are weighed again.
+      // at the data's resolution too, from its whole grid (a start from one grid value can
+      // settle at magnitude 0 below a hidden value the grid brackets), and all are weighed again.
       const InsertionFit& best_fit = pick >= 0 ? makeFit({fc[pick]}, OrganParams{}, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse) : model;
       if (isUnexplained(diagnose(rec, best_fit), o)) {
+        // The other candidates, and the leaders that were started from one grid value and
+        // settled at magnitude 0 (searched again, their evidence replaced).
         std::vector<std::string> rest;
-        std::vector<double> rest_from;
+        std::vector<std::vector<double>> rest_from;
+        std::vector<size_t> again;  // indices into fc
+        for (size_t c = 0; c < fc.size(); ++c)
+          if (search_value.count(fc[c]) && search_value[fc[c]] == 0 && ev[c].value[cvs[c].best] == 0)
+            again.push_back(c), rest.push_back(fc[c]), rest_from.push_back(grid(fc[c]));
+        const size_t retried = rest.size();
         for (const std::string& e : organEffectNames())
-          if (std::find(fc.begin(), fc.end(), e) == fc.end()) rest.push_back(e), rest_from.push_back(grid(e)[1]);
+          if (std::find(fc.begin(), fc.end(), e) == fc.end()) rest.push_back(e), rest_from.push_back(grid(e));
         if (!rest.empty()) {
-          const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from, {0.5, 1.0, 2.0});
-          fc.insert(fc.end(), rest.begin(), rest.end());
-          ev.insert(ev.end(), more.begin(), more.end());
+          const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from);
+          for (size_t i = 0; i < retried; ++i) ev[again[i]] = more[i];
+          fc.insert(fc.end(), rest.begin() + retried, rest.end());
+          ev.insert(ev.end(), more.begin() + retried, more.end());
           r.fine_evidence.clear();
           r.fine_all_candidates = true;
           pick = fineWeigh(1, model, fc, ev, &cvs);
@@ -643,8 +661,8 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
         model = makeFit(fine_chosen, fine_current, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse);
         if (chosen.size() > 1 && chosen.front() == fc[pick]) {
           const std::vector<std::string> second = {chosen[1]};
-          const std::vector<Evaluated> ev2 = fineSearch(fine_current, model.prediction, second,
-                                                        {organEffectValue(current, chosen[1])}, {1 / 1.5, 1.0, 1.5});
+          const std::vector<Evaluated> ev2 =
+              fineSearch(fine_current, model.prediction, second, {around(organEffectValue(current, chosen[1]), {1 / 1.5, 1.0, 1.5})});
           std::vector<CvResult> cvs2;
           if (fineWeigh(2, model, second, ev2, &cvs2) == 0) {
             fine_chosen.push_back(chosen[1]);
