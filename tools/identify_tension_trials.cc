@@ -79,6 +79,7 @@ struct Outcome {
   double seconds = 0;
   nlohmann::json evidence = nlohmann::json::array();  // the selection's candidates
   std::vector<std::pair<std::string, double>> param_error;  // relative errors (--forms own, named right)
+  nlohmann::json bench;  // what the bench drew that bears on the parameters' accuracy
 };
 
 // The law parameters of the truth that the fitted law shares. Own forms: all of them.
@@ -138,6 +139,9 @@ int main(int argc, char** argv) {
     o.seed = first_seed + i % seeds;
     const TrialSpec spec = drawTrialSpec(o.seed, cls[o.hidden], forms);
     const TensionTest test = generateTrialTest(spec);
+    o.bench = {{"protocol", spec.protocol}, {"actuator_tau_s", spec.actuator_tau_s},
+               {"sample_rate_hz", spec.sample_rate_hz}, {"white_sd_N", spec.white_sd_N},
+               {"coloured_sd_N", spec.coloured_sd_N}, {"max_strain", spec.max_strain}, {"ea_N", spec.ea_N}};
     const auto t0 = std::chrono::steady_clock::now();
     const IdentifyResult r = identifyTension(test, opt);
     o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -250,7 +254,7 @@ int main(int argc, char** argv) {
   for (const Outcome& o : out)
     cases.push_back({{"hidden", labels[o.hidden]}, {"seed", o.seed}, {"named", o.effects},
                      {"heldout_rmse_ratio", o.gain}, {"unexplained", o.unexplained}, {"rows", o.rows},
-                     {"evidence", o.evidence}});
+                     {"bench", o.bench}, {"param_error", nlohmann::json(o.param_error)}, {"evidence", o.evidence}});
   j["cases"] = cases;
   j["timing"] = {{"median_s", seconds[seconds.size() / 2]}, {"max_s", seconds.back()}};
 
