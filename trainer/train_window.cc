@@ -627,6 +627,7 @@ TrainWindowResult runTrainWindow(const Scenario& first_scenario, const TrainWind
       }
 
       if (session) session->loop->latest(snap);
+      if (o.on_frame) o.on_frame(session ? snap.steps : -1);
       bool start_clicked = false;
       drawFrame(&start_clicked);
       if (start_clicked && screen == Screen::kStart) {

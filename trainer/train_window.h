@@ -53,6 +53,9 @@ struct TrainWindowOptions {
   /// Where the gamepad is read from; empty: the first joystick GLFW has a gamepad mapping
   /// for. Tests drive the window with a scripted gamepad through it.
   GamepadReader gamepad;
+  /// Called once a frame with the steps the session on screen has taken (-1: no session);
+  /// tests pace a scripted gamepad on the simulation's progress with it.
+  std::function<void(long steps)> on_frame;
 };
 
 /// What a window session leaves, for the exit summary: the last session's figures, and

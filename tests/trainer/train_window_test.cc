@@ -25,27 +25,35 @@ enum Button { kA = 0, kB = 1, kStart = 7, kDpadUp = 11, kDpadRight = 12 };
 enum Axis { kLeftY = 1, kRightY = 3 };
 
 // A pad that goes through its steps in order. Each step is held for at least `frames`
-// polls (the window polls once a frame) and `seconds` of wall time, so that a slow frame
-// (sanitizers, a loaded machine) never swallows a press.
+// polls (the window polls once a frame), `seconds` of wall time and `sim_steps` physics
+// steps of the session on screen, so that a slow frame or slow physics (sanitizers, a
+// loaded machine) never swallows a press or shortens a push.
 class ScriptedPad {
  public:
   struct Step {
     GamepadState state;
     int frames = 3;
     double seconds = 0.0;
+    long sim_steps = 0;
   };
-  void add(const GamepadState& state, int frames = 3, double seconds = 0.0) { steps_.push_back({state, frames, seconds}); }
+  void add(const GamepadState& state, int frames = 3, double seconds = 0.0, long sim_steps = 0) {
+    steps_.push_back({state, frames, seconds, sim_steps});
+  }
+  /// The session's steps, once a frame (TrainWindowOptions::on_frame).
+  void sawSteps(long steps) { steps_now_ = steps; }
   bool read(GamepadState* out, std::string* name) {
     if (name->empty()) *name = "scripted pad";
     const auto now = std::chrono::steady_clock::now();
-    if (polls_ == 0) since_ = now;
+    if (polls_ == 0) since_ = now, steps_since_ = steps_now_;
     ++polls_;
     if (k_ < steps_.size()) {
       const Step& s = steps_[k_];
-      if (polls_ > s.frames && std::chrono::duration<double>(now - since_).count() >= s.seconds) {
+      if (polls_ > s.frames && std::chrono::duration<double>(now - since_).count() >= s.seconds &&
+          steps_now_ - steps_since_ >= s.sim_steps) {
         ++k_;
         polls_ = 1;
         since_ = now;
+        steps_since_ = steps_now_;
       }
     }
     *out = k_ < steps_.size() ? steps_[k_].state : GamepadState{};
@@ -59,6 +67,7 @@ class ScriptedPad {
   size_t k_ = 0;
   int polls_ = 0;
   std::chrono::steady_clock::time_point since_;
+  long steps_now_ = -1, steps_since_ = -1;  // the session's steps: last seen, at the step's start
 };
 
 GamepadState pressed(int button) {
@@ -81,7 +90,7 @@ TEST(TrainWindow, AGamepadAloneChoosesDrivesPausesAndEnds) {
   pad.add(idle);
   pad.add(pressed(kA));          // start
   pad.add(idle, 3, 0.2);
-  pad.add(drive, 3, 3.0);
+  pad.add(drive, 3, 3.0, 1000);  // 3 s, and at least 1 s simulated however slow the physics
   pad.add(idle, 3, 0.3);
   pad.add(pressed(kStart));      // pause
   pad.add(idle, 3, 1.0);
@@ -105,9 +114,10 @@ TEST(TrainWindow, AGamepadAloneChoosesDrivesPausesAndEnds) {
   o.width_px = 640;
   o.height_px = 360;
   o.record = dir.file("s.jsonl");
-  o.quit_after_s = 60;  // a safety net: the pad quits long before
+  o.quit_after_s = 120;  // a safety net: the pad quits long before
   o.colosim_version = "test";
   o.gamepad = [&pad](GamepadState* s, std::string* name) { return pad.read(s, name); };
+  o.on_frame = [&pad](long steps) { pad.sawSteps(steps); };
   TrainWindowResult out;
   try {
     out = runTrainWindow(findScenario(names[1]), o);
@@ -133,8 +143,9 @@ TEST(TrainWindow, AGamepadAloneChoosesDrivesPausesAndEnds) {
     max_insertion_m = std::max(max_insertion_m, in.input.insertion_m);
     max_updown_rad = std::max(max_updown_rad, in.input.knob_updown_rad);
   }
-  // 3 s of full stick: 9 cm and 4.5 rad when physics keeps up with the wall clock; a tenth
-  // of that still counts (sanitizers on a loaded machine), none does not.
+  // Full stick for 3 s and at least 1 s simulated: 9 cm and 4.5 rad when physics keeps up
+  // with the wall clock, at least 3 cm and 1.5 rad when it does not; a tenth of that still
+  // counts, none does not.
   EXPECT_GT(max_insertion_m - first_insertion_m, 0.009) << "the left stick did not push the scope";
   EXPECT_GT(max_updown_rad, 0.45) << "the right stick did not turn the up/down knob";
   std::vector<const SessionEvent*> pauses;
