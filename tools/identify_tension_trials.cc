@@ -29,6 +29,7 @@
 #include "identify/report.h"
 #include "identify/tension/identify.h"
 #include "identify/tension/trial_bench.h"
+#include "tools/confusion_plot.h"
 
 namespace {
 
@@ -260,32 +261,14 @@ int main(int argc, char** argv) {
 
   if (!report.empty()) {
     // The confusion table as a heat map: fraction of each hidden class named as each answer.
-    std::string dat = "# hidden named fraction count\n";
-    for (size_t i = 0; i < nc; ++i) {
-      for (size_t jn = 0; jn <= nc; ++jn) {
-        std::snprintf(line, sizeof line, "%zu %zu %.4f %d\n", i, jn, static_cast<double>(table[i][jn]) / seeds,
-                      table[i][jn]);
-        dat += line;
-      }
-      dat += "\n";
-    }
-    std::string xt, yt;
-    for (size_t k = 0; k <= nc; ++k) {
-      const std::string l = k < nc ? labels[k] : "other";
-      xt += (k ? ", " : "") + ("'" + l + "' " + std::to_string(k));
-      if (k < nc) yt += (k ? ", " : "") + ("'" + l + "' " + std::to_string(k));
-    }
-    const std::string gp =
-        "set terminal pngcairo size 1000,800 font 'sans,10'\n"
-        "set output 'confusion.png'\n"
-        "set title 'Hidden-effect trials: fraction of each hidden class named as each answer (" + forms_name +
-        " forms, " + std::to_string(seeds) + " seeds per class)'\n"
-        "set xlabel 'named'\nset ylabel 'hidden'\n"
-        "set xtics (" + xt + ") rotate by 45 right\nset ytics (" + yt + ")\n"
-        "set yrange [" + std::to_string(nc) + " - 0.5:-0.5]\nset xrange [-0.5:" + std::to_string(nc) + " + 0.5]\n"
-        "set cbrange [0:1]\nset palette defined (0 'white', 1 '#1f77b4')\nunset key\n"
-        "plot 'confusion.dat' u 2:1:3 w image, '' u 2:1:($4 > 0 ? sprintf('%d', $4) : '') w labels font 'sans,8'\n";
-    writeGnuplotReport(report, {{"confusion.dat", dat}}, gp, text, j);
+    std::vector<std::string> cols = labels;
+    cols.push_back("other");
+    const ConfusionPlot plot =
+        confusionPlot(labels, cols, table, seeds,
+                      "Hidden-effect trials: fraction of each hidden class named as each answer (" + forms_name +
+                          " forms, " + std::to_string(seeds) + " seeds per class)",
+                      "named");
+    writeGnuplotReport(report, {{"confusion.dat", plot.data}}, plot.script, text, j);
   }
   if (json) std::cout << j.dump() << "\n";
   else std::cout << text;

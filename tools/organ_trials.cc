@@ -31,6 +31,7 @@
 #include "identify/insertion/identify.h"
 #include "identify/insertion/synthetic.h"
 #include "identify/report.h"
+#include "tools/confusion_plot.h"
 
 namespace {
 
@@ -191,35 +192,23 @@ int main(int argc, char** argv) {
   std::printf("%s", text.c_str());
   if (!report.empty()) {
     // The table as a heat map: the fraction of each hidden class named as each answer.
-    std::string dat = "# hidden named fraction count\n", xt, yt;
-    for (size_t i = 0; i < effects.size(); ++i) {
-      for (size_t k = 0; k < cols.size(); ++k) {
-        const int n = confusion[effects[i]][cols[k]];
-        std::snprintf(line, sizeof line, "%zu %zu %.4f %d\n", i, k, static_cast<double>(n) / seeds, n);
-        dat += line;
-      }
-      dat += "\n";
-      yt += (i ? ", " : "") + ("'" + effects[i] + "' " + std::to_string(i));
+    std::vector<std::vector<int>> counts;
+    for (const std::string& e : effects) {
+      counts.emplace_back();
+      for (const std::string& k : cols) counts.back().push_back(confusion[e][k]);
     }
-    for (size_t k = 0; k < cols.size(); ++k) xt += (k ? ", " : "") + ("'" + cols[k] + "' " + std::to_string(k));
-    const std::string gp =
-        "set terminal pngcairo noenhanced size 1000,800 font 'sans,10'\n"
-        "set output 'confusion.png'\n"
-        "set title 'Organ hidden-effect trials: fraction of each hidden class named first as each answer (" +
-        std::to_string(seeds) + " seeds per class)'\n"
-        "set xlabel 'named first'\nset ylabel 'hidden'\n"
-        "set xtics (" + xt + ") rotate by 45 right\nset ytics (" + yt + ")\n"
-        "set yrange [" + std::to_string(effects.size()) + " - 0.5:-0.5]\nset xrange [-0.5:" +
-        std::to_string(cols.size()) + " - 0.5]\n"
-        "set cbrange [0:1]\nset palette defined (0 'white', 1 '#1f77b4')\nunset key\n"
-        "plot 'confusion.dat' u 2:1:3 w image, '' u 2:1:($4 > 0 ? sprintf('%d', $4) : '') w labels font 'sans,8'\n";
+    const ConfusionPlot plot =
+        confusionPlot(effects, cols, counts, seeds,
+                      "Organ hidden-effect trials: fraction of each hidden class named first as each answer (" +
+                          std::to_string(seeds) + " seeds per class)",
+                      "named first");
     const nlohmann::json result = {{"experiment", "organ_trials"}, {"seeds", seeds}, {"first_seed", first_seed},
                                    {"duration_s", duration_s}, {"search_spacing_m", opt.search_spacing_m},
                                    {"data_spacing_m", data.params.colon.control_point_spacing_m},
                                    {"refinement_spacing_m", fine.params.colon.control_point_spacing_m},
                                    {"mismatch_term", mismatch}, {"wall_s", wall}, {"cases", cases}};
     try {
-      writeGnuplotReport(report, {{"confusion.dat", dat}}, gp, text, result);
+      writeGnuplotReport(report, {{"confusion.dat", plot.data}}, plot.script, text, result);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "--report %s: %s\n", report.c_str(), e.what());
       return 1;
