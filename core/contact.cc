@@ -11,7 +11,7 @@ bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a,
 }
 
 double applyWallContacts(const ContactParams& P, const ColonModel& colon, const ColonState& cs,
-                         const ScopeModel& /*scope*/, const ScopeState& ss, std::vector<WallContact>& contacts,
+                         const ScopeModel& scope, const ScopeState& ss, std::vector<WallContact>& contacts,
                          std::vector<SplineLoad>& colon_loads, std::vector<ScopeLoad>& scope_loads,
                          ContactLimitReport* report) {
   ContactLimitReport local;
@@ -19,7 +19,16 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
   rep = ContactLimitReport();
   double max_force = 0;
   const Mat3 I3 = Mat3::Identity();
+  // The per-point values are given for a slice of wall_reference_slice_m; this scope's
+  // slices carry them in proportion to their length (ContactParams).
+  const double slice_scale = P.wall_reference_slice_m > 0 ? scope.params.segment_length_m /
+                                                                 scope.params.slices_per_segment / P.wall_reference_slice_m
+                                                           : 1.0;
+  const size_t slice_points = scope.interaction_points_S.size();
   for (WallContact& c : contacts) {
+    const double w = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
+    const double k_wall = w * P.wall_stiffness_N_per_m, c_wall = w * P.wall_damping_Ns_per_m;
+    const double max_force_N = w * P.max_point_force_N;
     const int k = c.scope_segment;
     const Vec3 r = c.p_W_point - ss.p_W[k];
     const Vec3 v_point = ss.v_W[k] + ss.w_W[k].cross(r);
@@ -28,7 +37,7 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     const Vec3& n = c.normal_W;
     const double v_n = v_rel.dot(n);  // > 0: moving deeper into the wall
     // Eq. 7: F = k_wall depth + f_wall (v . n), pushing the point back into the lumen.
-    const double f_n = P.wall_stiffness_N_per_m * c.depth_m + P.wall_damping_Ns_per_m * v_n;
+    const double f_n = k_wall * c.depth_m + c_wall * v_n;
     if (!std::isfinite(f_n)) {  // limit: non-finite geometry or velocity: the contact is dropped
       c.force_N = c.normal_force_N = 0;
       ++rep.non_finite;
@@ -52,10 +61,10 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     }
     rep.asked_N = std::max(rep.asked_N, asked);
     const Mat3 nn = n * n.transpose();
-    Mat3 K = P.wall_stiffness_N_per_m * nn;
-    Mat3 C = P.wall_damping_Ns_per_m * nn + mu_over_slip * (I3 - nn);
-    if (asked > P.max_point_force_N) {  // limit: scaled down to the largest trusted force
-      const double scale = P.max_point_force_N / asked;
+    Mat3 K = k_wall * nn;
+    Mat3 C = c_wall * nn + mu_over_slip * (I3 - nn);
+    if (asked > max_force_N) {  // limit: scaled down to the largest trusted force
+      const double scale = max_force_N / asked;
       f_scope *= scale;
       K *= scale;
       C *= scale;

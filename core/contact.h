@@ -13,8 +13,16 @@
 namespace colosim {
 
 struct ContactParams {
-  double wall_stiffness_N_per_m = 1000;   ///< k_wall per interaction point (eq. 7) [N/m]
-  double wall_damping_Ns_per_m = 1.0;     ///< f_wall per interaction point (eq. 7) [N s/m]
+  /// k_wall per interaction point of a slice wall_reference_slice_m long (eq. 7) [N/m].
+  double wall_stiffness_N_per_m = 1000;
+  /// f_wall per interaction point of a slice wall_reference_slice_m long (eq. 7) [N s/m].
+  double wall_damping_Ns_per_m = 1.0;
+  /// The slice length the wall's per-point values (stiffness, damping, max_point_force_N)
+  /// are given for [m]. A slice of another length (ScopeParams::segment_length_m /
+  /// slices_per_segment) scales them in proportion, so that the wall's stiffness per metre
+  /// of scope does not change with the resolution. The tip face's points are not on a
+  /// slice and keep the given values. 0: per point whatever the slice (the paper's eq. 7).
+  double wall_reference_slice_m = 0.015;
   double friction_coefficient = 0.1;      ///< Coulomb mu between scope and mucosa [-] (0: the paper's model)
   double friction_velocity_m_per_s = 0.002; ///< regularisation: full friction above ~this sliding speed [m/s]
   double self_stiffness_N_per_m = 300;    ///< colon self-contact stiffness per sphere pair [N/m]

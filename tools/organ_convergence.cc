@@ -1,7 +1,8 @@
 // Is the organ replay converged? How far the paper's model's handle force moves when the
 // time step or the resolution is refined, against the sensor noise an identification has
 // to see effects through (docs/organ-identification.md, "Convergence"):
-//   organ_convergence [--seed N] [--duration S] [--dt LIST] [--spacing LIST] [--wall-per-length]
+//   organ_convergence [--seed N] [--duration S] [--dt LIST] [--spacing LIST] [--relax S]
+//                     [--wall-per-point]
 // draws the organ trials' two-rate insertion for the seed (no hidden effect;
 // identify/insertion/synthetic.h drawTwoRateInsertion), makes its inputs with the bench
 // scenario at its own time step and resolution, then replays them with the paper's model
@@ -11,8 +12,10 @@
 // handle force from the finest replay of the same list and from the next finer one, with
 // the mean difference removed (an identification fits an offset) [N], the median absolute
 // difference from the finest (blind to the rows of an input's velocity jump) [N]; and the
-// recording's sensor noise for scale. --wall-per-length keeps the wall's stiffness, damping and force
-// limit per metre of scope (scaled with the slice length) rather than per interaction point.
+// recording's sensor noise for scale. --relax S lets the world rest S seconds with the
+// handle held before the recording starts; --wall-per-point replays with the paper's wall,
+// stiff per interaction point whatever the slice length, instead of per length of scope
+// (ContactParams::wall_reference_slice_m), data and replays alike.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -56,7 +59,7 @@ double medianAbsAboutMedian(const std::vector<double>& a, const std::vector<doub
 }
 
 struct Replay {
-  double dt_s = 0, spacing_m = 0, wall_s = 0;
+  double dt_s = 0, spacing_m = 0, cost_s = 0;
   std::vector<double> force_N;
 };
 
@@ -65,7 +68,7 @@ void printList(const char* what, const std::vector<Replay>& list, double noise_N
               "median_vs_finest_N");
   for (size_t i = 0; i < list.size(); ++i) {
     const Replay& r = list[i];
-    std::printf("%10.6f %10.5f %8.1f", r.dt_s, r.spacing_m, r.wall_s);
+    std::printf("%10.6f %10.5f %8.1f", r.dt_s, r.spacing_m, r.cost_s);
     if (i + 1 < list.size()) {
       const double finest = rmsAboutMean(r.force_N, list.back().force_N);
       const double next = rmsAboutMean(r.force_N, list[i + 1].force_N);
@@ -86,18 +89,25 @@ int main(int argc, char** argv) {
   double duration_s = 2.0;
   std::vector<double> dts{0.001, 0.0005, 0.00025};
   std::vector<double> spacings{0.015, 0.0075};
-  bool wall_per_length = false;
+  double relax_s = -1;
+  bool wall_per_point = false;
   app.add_option("--seed", seed, "seed of the two-rate insertion (as organ_trials)");
   app.add_option("--duration", duration_s, "recording length [s]")->check(CLI::Range(0.5, 60.0));
   app.add_option("--dt", dts, "time steps, coarse to fine [s]")->delimiter(',')->check(CLI::Range(1e-5, 1e-2));
   app.add_option("--spacing", spacings, "control-point and scope-segment spacings, coarse to fine [m]")
       ->delimiter(',')
       ->check(CLI::Range(0.002, 0.06));
-  app.add_flag("--wall-per-length", wall_per_length,
-               "scale the wall's per-point stiffness, damping and force limit with the slice length");
+  app.add_option("--relax", relax_s,
+                 "seconds the world rests with the handle held before the recording starts, in the data and "
+                 "every replay (default: the scenario's start specification)")
+      ->check(CLI::Range(0.0, 60.0));
+  app.add_flag("--wall-per-point", wall_per_point,
+               "the wall's stiffness per interaction point whatever the slice length (wall_reference_slice_length 0)");
   CLI11_PARSE(app, argc, argv);
 
-  const ReplaySetup base = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
+  ReplaySetup base = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
+  base.relax_s = relax_s;
+  if (wall_per_point) base.params.contact.wall_reference_slice_m = 0;
   const SyntheticInsertionSpec spec = drawTwoRateInsertion(seed, -1, duration_s);
   const InsertionRecording rec = makeSyntheticInsertion(base, spec);
   std::printf("seed %llu, %.1f s, %zu rows; made at dt %.4f s, spacing %.4f m; sensor noise %.3f N\n",
@@ -105,20 +115,19 @@ int main(int argc, char** argv) {
               base.params.colon.control_point_spacing_m, spec.force_noise_N);
 
   auto replay = [&](double dt_s, double spacing_m) {
-    ReplaySetup s = makeReplaySetup(base.scenario, spacing_m);
-    s.dt_s = dt_s;
-    if (wall_per_length) {
-      const double f = s.params.scope.segment_length_m / base.params.scope.segment_length_m;
-      s.params.contact.wall_stiffness_N_per_m *= f;
-      s.params.contact.wall_damping_Ns_per_m *= f;
-      s.params.contact.max_point_force_N *= f;
+    ReplaySetup s = base;
+    if (spacing_m > 0) {
+      s.params.colon.control_point_spacing_m = spacing_m;
+      s.params.scope.segment_length_m = spacing_m;
     }
+    s.dt_s = dt_s;
+    s.relax_s = relax_s;
     const auto t0 = std::chrono::steady_clock::now();
     Replay r;
     r.dt_s = dt_s;
     r.spacing_m = spacing_m;
     r.force_N = replayInsertion(s, rec, OrganParams{}).force_N;
-    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.cost_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
   };
   std::vector<Replay> by_dt, by_spacing;

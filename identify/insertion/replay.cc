@@ -120,6 +120,7 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
   const double dt = setup.dt_s;
   StartSpec start = startSpecOf(setup.scenario);
   start.dt_s = dt;
+  if (setup.relax_s >= 0) start.relax_s = setup.relax_s;
   start.first_input = rec.input.front();
   WorldSimulation sim(std::move(model), start, "fcl");
   const WorldState& st = sim.state();

@@ -47,6 +47,9 @@ struct ReplaySetup {
   Scenario scenario;
   Parameters params;
   double dt_s = 1e-3;
+  /// After threading, the world runs this long with the handle held before the recording's
+  /// clock starts (StartSpec::relax_s) [s]; < 0: the start specification's own.
+  double relax_s = -1;
 };
 /// The scenario a recording names, with the parameter file it names (header key `params`,
 /// as colosim run --params replaces the scenario's: useParameterFile); InputError naming

@@ -225,6 +225,45 @@ TEST(ContactForces, ActionEqualsReaction) {
   EXPECT_LT(total.norm(), 1e-12 * scope_total.norm() + 1e-14);
 }
 
+// The wall is stiff per length of scope, not per interaction point: the same depth on a
+// slice half as long (segments of 0.75 cm) gives half the force per point, so that the
+// wall's force per metre of scope pressed into it does not change with the resolution.
+// The tip face's points are not on a slice and keep the per-point values; with the
+// reference length 0 (the paper's eq. 7) every point keeps them.
+TEST(ContactForces, WallStiffnessIsPerLengthOfScope) {
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  auto pointForce = [&](double segment_m, double reference_m, bool face, double depth_m) {
+    Parameters q = p;
+    q.scope.segment_length_m = segment_m;
+    q.contact.wall_reference_slice_m = reference_m;
+    const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), q);
+    WorldState s = makeWorldState(m);
+    threadScopeAlongColon(m, s, 0.2);
+    WallContact c;
+    c.scope_segment = face ? 0 : 2;
+    c.point = face ? static_cast<int>(m.scope.interaction_points_S.size()) : 0;
+    c.p_W_point = face ? tipFacePoint(m.scope, s.scope, 0) : interactionPoint(m.scope, s.scope, 2, 0);
+    c.colon_segment = 5;
+    c.p = 0.5;
+    c.normal_W = Vec3(0, 0, 1);
+    c.depth_m = depth_m;
+    std::vector<WallContact> contacts = {c};
+    std::vector<SplineLoad> colon_loads;
+    std::vector<ScopeLoad> scope_loads;
+    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
+    return contacts[0].normal_force_N;
+  };
+  const double d = 0.002;  // 2 N at 1000 N/m: well below the limit
+  const double coarse = pointForce(0.015, 0.015, false, d), fine = pointForce(0.0075, 0.015, false, d);
+  EXPECT_NEAR(coarse, p.contact.wall_stiffness_N_per_m * d, 1e-9);
+  EXPECT_NEAR(fine, 0.5 * coarse, 1e-9);  // two points per 1.5 cm of scope: the same force per length
+  EXPECT_NEAR(pointForce(0.0075, 0.015, true, d), pointForce(0.015, 0.015, true, d), 1e-9);
+  EXPECT_NEAR(pointForce(0.0075, 0.0, false, d), coarse, 1e-9);
+  // The limit scales with the slice too: at 3x the limit's depth, a half slice gives half of it.
+  const double deep = 3 * p.contact.max_point_force_N / p.contact.wall_stiffness_N_per_m;
+  EXPECT_NEAR(pointForce(0.0075, 0.015, false, deep), 0.5 * p.contact.max_point_force_N, 1e-9);
+}
+
 // The contact force limit (docs/hardening.md): a point pushed far into the wall asks for
 // more than max_point_force_N; it gets exactly the limit, in the same direction, with its
 // stiffness and damping scaled alike, and the report counts it. NaN geometry is dropped.

@@ -97,6 +97,21 @@ TEST(Assets, CompressionStiffnessFractionIsOptionalAndWithinZeroToOne) {
   EXPECT_EQ(loadParameters(old).colon.compression_stiffness_fraction, 1.0);
 }
 
+// contact.wall_reference_slice_length is optional (the shipped files leave it out: 1.5 cm,
+// their segment length) and within [0, 0.1] m.
+TEST(Assets, WallReferenceSliceLengthIsOptionalAndInRange) {
+  test::TempDir dir;
+  EXPECT_EQ(loadParameters(test::asset("params/default.json")).contact.wall_reference_slice_m, 0.015);
+  const std::string key = "\"query_margin\": {";
+  auto with = [&](const std::string& name, const std::string& value) {
+    return dir.write(name, paramsWith(key, "\"wall_reference_slice_length\": {\"value\": " + value +
+                                               ", \"unit\": \"m\", \"source\": \"test\"},\n    " + key));
+  };
+  EXPECT_EQ(loadParameters(with("half.json", "0.0075")).contact.wall_reference_slice_m, 0.0075);
+  const std::string bad = with("bad.json", "-0.01");
+  expectInputError([&] { loadParameters(bad); }, {bad, "contact.wall_reference_slice_length.value", "out of range"});
+}
+
 TEST(Assets, NaNAndInfinityAreRefused) {
   test::TempDir dir;
   const std::string nan = dir.write("nan.json", paramsWith("\"value\": 0.4", "\"value\": NaN"));
