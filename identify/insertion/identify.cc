@@ -329,13 +329,6 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   if (o.search_spacing_m > 0) {
     setup.params.colon.control_point_spacing_m = o.search_spacing_m;
     setup.params.scope.segment_length_m = o.search_spacing_m;
-    // The search's surrogate keeps the wall stiff per interaction point (the paper's eq. 7)
-    // rather than per length of scope: with the wall per length the 3 cm surrogate ranked
-    // worse on the organ trials (tools/organ_trials --seeds 10: 66 / 70 single effects
-    // named first and right, one wrong name not flagged, against 69 / 70 with this one;
-    // docs/organ-identification.md, "Convergence"). Only the ranking uses it: every named
-    // value and reported figure comes from the refinement at the data's resolution.
-    setup.params.contact.wall_reference_slice_m = 0;
   }
   r.search_spacing_m = setup.params.colon.control_point_spacing_m;
   // Coarse search, then refinement at the data's resolution (the parameter file's): the
@@ -343,6 +336,13 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   // from, and the named magnitudes and every reported figure come from fine replays.
   const bool refine = full_setup.params.colon.control_point_spacing_m != setup.params.colon.control_point_spacing_m ||
                       full_setup.params.scope.segment_length_m != setup.params.scope.segment_length_m;
+  // A coarser search's surrogate keeps the wall stiff per interaction point (the paper's
+  // eq. 7) rather than per length of scope: with the wall per length the 3 cm surrogate
+  // ranked worse on the organ trials (tools/organ_trials --seeds 10: 66 / 70 single effects
+  // named first and right, one wrong name not flagged, against 69 / 70 with this one;
+  // docs/organ-identification.md, "Convergence"). Only the ranking uses it: every named
+  // value and reported figure comes from the refinement at the data's resolution.
+  if (refine) setup.params.contact.wall_reference_slice_m = 0;
   r.data_spacing_m = full_setup.params.colon.control_point_spacing_m;
   Mismatch mismatch;
   Prediction fine_baseline;
