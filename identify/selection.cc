@@ -88,23 +88,18 @@ ResidualProfile residualProfile(const std::string& variable, const std::vector<d
   return p;
 }
 
-namespace {
-
-// The upper median (the element at size / 2 in order); 0 for no values.
-double median(std::vector<double> v) {
+double upperMedian(std::vector<double> v) {
   if (v.empty()) return 0;
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
   return v[v.size() / 2];
 }
 
-}  // namespace
-
 double whiteNoiseSd(const std::vector<double>& residual_N) {
   std::vector<double> diff;
   for (size_t k = 1; k < residual_N.size(); ++k) diff.push_back(residual_N[k] - residual_N[k - 1]);
-  const double md = median(diff);
+  const double md = upperMedian(diff);
   for (double& x : diff) x = std::abs(x - md);
-  return 1.4826 * median(diff) / std::sqrt(2.0);
+  return 1.4826 * upperMedian(diff) / std::sqrt(2.0);
 }
 
 Diagnostics diagnoseResidual(double rmse_N, const std::vector<double>& residual_N) {

@@ -124,6 +124,9 @@ struct ResidualProfile {
 ResidualProfile residualProfile(const std::string& variable, const std::vector<double>& residual_N,
                                 const std::vector<int>& bin, int nbins);
 
+/// The upper median of `v` (the element at size / 2 in order); 0 for no values.
+double upperMedian(std::vector<double> v);
+
 /// White-noise level of a residual series [N]: 1.4826 x the median absolute deviation
 /// about the median of the differenced residual, over sqrt 2. A smooth misfit cancels in
 /// the differences, the noise does not (its differences have variance 2 sigma^2).

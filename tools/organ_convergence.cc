@@ -16,7 +16,6 @@
 // handle held before the recording starts; --wall-per-point replays with the paper's wall,
 // stiff per interaction point whatever the slice length, instead of per length of scope
 // (ContactParams::wall_reference_slice_m), data and replays alike.
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +26,7 @@
 
 #include "identify/insertion/replay.h"
 #include "identify/insertion/synthetic.h"
+#include "identify/selection.h"
 #include "trainer/scenario.h"
 
 using namespace colosim;
@@ -49,13 +49,9 @@ double rmsAboutMean(const std::vector<double>& a, const std::vector<double>& b) 
 double medianAbsAboutMedian(const std::vector<double>& a, const std::vector<double>& b) {
   std::vector<double> d(a.size());
   for (size_t i = 0; i < a.size(); ++i) d[i] = a[i] - b[i];
-  auto median = [](std::vector<double> v) {
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    return v[v.size() / 2];
-  };
-  const double m = median(d);
+  const double m = upperMedian(d);
   for (double& x : d) x = std::abs(x - m);
-  return median(d);
+  return upperMedian(d);
 }
 
 struct Replay {
@@ -121,7 +117,6 @@ int main(int argc, char** argv) {
       s.params.scope.segment_length_m = spacing_m;
     }
     s.dt_s = dt_s;
-    s.relax_s = relax_s;
     const auto t0 = std::chrono::steady_clock::now();
     Replay r;
     r.dt_s = dt_s;
