@@ -32,6 +32,16 @@ Vec3 limitActuatorMoment(const Vec3& rest, const Vec3& omega, double kb, double 
   return out;
 }
 
+Vec3 wireLimitedRest(const ScopeModel& m, const ScopeState& s, int k, const HandleInput& in) {
+  const Vec3 knobs = restJointRotation(m, k, in);
+  const double limit = m.params.knob_moment_limit_Nm;
+  if (k >= m.bending_joints || !(limit > 0)) return knobs;
+  const Vec3 omega = logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]);
+  const double kb = bendingStiffness(m, k) * bendingStiffnessFactor(m, k, in);
+  if (kb * bendingOnly(knobs - omega).norm() <= limit) return knobs;  // the knobs' own bits
+  return limitActuatorMoment(knobs, omega, kb, limit);
+}
+
 double actuatorMoment(const ScopeModel& m, const ScopeState& s, int k) {
   const Vec3 omega = logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]);
   return bendingStiffness(m, k) * bendingOnly(s.joint_rest_rad[k] - omega).norm();

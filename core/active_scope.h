@@ -45,11 +45,19 @@
 
 namespace colosim {
 
+/// The knobs' rest rotation of joint k through the angulation wires [rad]: the knobs'
+/// bend (restJointRotation) while the joint's bending moment K_b |rest - Omega| towards it
+/// stays within ScopeParams::knob_moment_limit_Nm (0: no limit), else the rest pulled back
+/// towards the joint's present rotation Omega so that the moment is the limit
+/// (limitActuatorMoment, K_b = EI/h times the stiffness level's factor). Stateless: a joint
+/// the wall lets go returns to the knobs' bend. Joints beyond the bending section: 0.
+Vec3 wireLimitedRest(const ScopeModel& m, const ScopeState& s, int k, const HandleInput& in);
+
 /// The rest rotation of joint k the step uses: the actuators' for an actuated joint of an
-/// active scope, else the knobs' (restJointRotation) [rad].
+/// active scope, else the knobs' through the wires (wireLimitedRest) [rad].
 inline Vec3 jointRestRotation(const ScopeModel& m, const ScopeState& s, int k, const HandleInput& in) {
   if (k >= m.first_actuated_joint && k < m.actuated_joints) return s.joint_rest_rad[k];
-  return restJointRotation(m, k, in);
+  return wireLimitedRest(m, s, k, in);
 }
 
 /// One step of the first-order lag from `rest` towards `target`, time constant tau_s [rad].

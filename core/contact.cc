@@ -28,6 +28,8 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
   for (WallContact& c : contacts) {
     const double w = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
     const double k_wall = w * P.wall_stiffness_N_per_m, c_wall = w * P.wall_damping_Ns_per_m;
+    const double backed_m = c.depth_m - P.wall_thickness_m;  // > 0: pressed through the wall's thickness
+    const double k_back = backed_m > 0 ? w * P.wall_backing_stiffness_N_per_m : 0.0;
     const double max_force_N = w * P.max_point_force_N;
     const int k = c.scope_segment;
     const Vec3 r = c.p_W_point - ss.p_W[k];
@@ -36,8 +38,9 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     const Vec3 v_rel = v_point - v_wall;
     const Vec3& n = c.normal_W;
     const double v_n = v_rel.dot(n);  // > 0: moving deeper into the wall
-    // Eq. 7: F = k_wall depth + f_wall (v . n), pushing the point back into the lumen.
-    const double f_n = k_wall * c.depth_m + c_wall * v_n;
+    // Eq. 7: F = k_wall depth + f_wall (v . n), pushing the point back into the lumen, and
+    // the backing beyond the wall's thickness.
+    const double f_n = k_wall * c.depth_m + k_back * backed_m + c_wall * v_n;
     if (!std::isfinite(f_n)) {  // limit: non-finite geometry or velocity: the contact is dropped
       c.force_N = c.normal_force_N = 0;
       ++rep.non_finite;
@@ -61,7 +64,7 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     }
     rep.asked_N = std::max(rep.asked_N, asked);
     const Mat3 nn = n * n.transpose();
-    Mat3 K = k_wall * nn;
+    Mat3 K = (k_wall + k_back) * nn;
     Mat3 C = c_wall * nn + mu_over_slip * (I3 - nn);
     if (asked > max_force_N) {  // limit: scaled down to the largest trusted force
       const double scale = max_force_N / asked;

@@ -23,6 +23,13 @@ struct ContactParams {
   /// of scope does not change with the resolution. The tip face's points are not on a
   /// slice and keep the given values. 0: per point whatever the slice (the paper's eq. 7).
   double wall_reference_slice_m = 0.015;
+  /// The wall bottoms out: a distended colon's wall is under 3 mm thick, and a point
+  /// pressed deeper than wall_thickness_m presses on what lies behind the wall, not on
+  /// mucosa. Beyond it the point's normal force gains wall_backing_stiffness_N_per_m per
+  /// metre of the extra depth (per interaction point of a reference slice, scaled like
+  /// k_wall). 0: the paper's linear wall at any depth.
+  double wall_thickness_m = 0.003;
+  double wall_backing_stiffness_N_per_m = 30000;  ///< [N/m]
   double friction_coefficient = 0.1;      ///< Coulomb mu between scope and mucosa [-] (0: the paper's model)
   double friction_velocity_m_per_s = 0.002; ///< regularisation: full friction above ~this sliding speed [m/s]
   double self_stiffness_N_per_m = 300;    ///< colon self-contact stiffness per sphere pair [N/m]
@@ -37,6 +44,11 @@ struct ContactParams {
   /// scores' 5 N excessive-force threshold per 1.5 cm of scope). A larger force is scaled
   /// down to it, with its stiffness and damping, and counted.
   double max_point_force_N = 20.0;
+  /// The lens guard (core/scope_step.h): the lens is stopped this far inside the wall of
+  /// the tip slice's track, a margin for what one step's linearisation and the wall's own
+  /// motion within the step leave over [m]. Negative: no guard (the penalty wall alone, as
+  /// in the paper).
+  double lens_margin_m = 0.0005;
 };
 
 /// What the contact force limit did in one call of applyWallContacts.

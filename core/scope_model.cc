@@ -23,6 +23,8 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
   if (!(p.knob_updown_max_rad >= 0 && p.knob_updown_max_rad <= kKnobUpDownMax_rad) ||
       !(p.knob_leftright_max_rad >= 0 && p.knob_leftright_max_rad <= kKnobLeftRightMax_rad))
     throw std::invalid_argument("scope: knob stops beyond the handle's range");
+  if (!(p.knob_moment_limit_Nm >= 0 && std::isfinite(p.knob_moment_limit_Nm)))
+    throw std::invalid_argument("scope: the knobs' moment limit must be finite and not negative");
   if (p.slices_per_segment < 1 || p.points_per_slice < 1)
     throw std::invalid_argument("scope: at least one slice of one interaction point");
   if (!(entry.norm() > 0)) throw std::invalid_argument("scope: entry direction is zero");

@@ -83,6 +83,13 @@ struct ScopeParams {
   /// kKnobUpDownMax_rad and kKnobLeftRightMax_rad).
   double knob_updown_max_rad = kKnobUpDownMax_rad;
   double knob_leftright_max_rad = kKnobLeftRightMax_rad;
+  /// The angulation wires: the largest bending moment the knobs put on a joint of the
+  /// bending section [N m] (the wires' tension times their offset from the axis). Within
+  /// it a joint is held at the knobs' bend with its stiffness EI/h; a joint that the wall or
+  /// a hooked colon bends further from the knobs' bend meets this moment and no more: the
+  /// wires stretch and the thumb on the knob gives way. 0: no limit (the knobs set the
+  /// bend however hard the tip is held).
+  double knob_moment_limit_Nm = 0.15;
   /// The tip light: distance at which it gives unit irradiance on the mucosa, a measure of
   /// its power (render/camera.h OnboardOptics::light_ref_m) [m].
   double tip_light_reach_m = 0.02;

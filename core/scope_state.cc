@@ -20,6 +20,7 @@ ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
   s.system.resize(K);
   s.rhs = Eigen::VectorXd::Zero(6 * K);
   s.force = Eigen::VectorXd::Zero(6 * K);
+  s.guard_response = Eigen::VectorXd::Zero(6 * K);
   s.has_stiffness_levels = !m.params.variable_stiffness.levels.empty();
   if (m.params.active.enabled) {
     s.joint_rest_rad.assign(K, Vec3::Zero());

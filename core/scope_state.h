@@ -43,6 +43,17 @@ struct ScopeState {
   double grip_slip_rad = 0;  ///< commanded minus actual rotation [rad]
   double time_s = 0;       ///< [s]
   std::vector<ScopeLoad> loads;  ///< loads for the next step (cleared by the caller)
+  /// The lens guard (a unilateral constraint on the lens, core/scope_step.h): the wall the
+  /// lens faces, set by the caller before each step like the loads; active false: no guard.
+  struct LensWall {
+    bool active = false;
+    Vec3 n_W = Vec3::UnitX();      ///< outward wall normal at the lens (centreline to lens) [-]
+    double gap_m = 0;              ///< how far the lens may still move along n_W this step [m]
+    double wall_speed_m_per_s = 0; ///< the wall's velocity along n_W [m/s]
+  } lens_wall;
+  /// The guard's impulse on the lens in the last step, along -lens_wall.n_W (0: not
+  /// engaged); the caller passes its reaction to the wall [N s].
+  double lens_impulse_Ns = 0;
   HandleReaction handle;   ///< reaction after the last step
   bool solver_ok = true;   ///< false when the last solve failed or gave non-finite values (velocities then zeroed)
   int limited_segments = 0;        ///< segments slowed to the speed or spin limit in the last step
@@ -69,6 +80,7 @@ struct ScopeState {
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;
+  Eigen::VectorXd guard_response;  ///< the chain's velocity change per unit impulse on the lens
   /// The state at the start of the step, to step again from when the grip slips (the
   /// fields a step changes before the grip: saveStart() and restoreStart() copy them).
   struct Start {

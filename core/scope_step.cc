@@ -253,6 +253,38 @@ void solveVelocityChange(ScopeState& s, int inside, double dt) {
   if (!s.solver_ok) std::fill(rhs, rhs + n, 0.0);
 }
 
+// The lens guard: the lens (the tip face's centre, on the scope's axis) must not pass the
+// wall it faces. A penalty wall lets any frontal load indent it; this unilateral
+// constraint at the velocity level stops the lens where the step would take it beyond
+// s.lens_wall.gap_m: with a = (v + w x r) . n - v_wall the lens's speed into the wall after
+// the solve (r: lens minus tip centre), if a dt > gap the impulse P (along -n) that brings
+// a to gap / dt is applied to the whole chain: du -= P A^-1 J^T, with J = [n^T, (r x n)^T]
+// on the tip segment and A the step's matrix (one more solve with its factors). The
+// chain, its joints and the handle feel it; the caller passes -P to the wall.
+void guardLens(const ScopeModel& m, ScopeState& s, int inside, double dt) {
+  s.lens_impulse_Ns = 0;
+  const ScopeState::LensWall& wall = s.lens_wall;
+  if (!wall.active || !s.solver_ok || inside == 0) return;
+  double* du = s.rhs.data();
+  const Vec3& n = wall.n_W;
+  const Vec3 r = s.R_WS[0] * m.tip_face_points_S[0];
+  const Vec3 rn = r.cross(n);
+  const Vec3 v = s.v_W[0] + Vec3(du[0], du[1], du[2]);
+  const Vec3 w = s.w_W[0] + Vec3(du[3], du[4], du[5]);
+  const double a = (v + w.cross(r)).dot(n) - wall.wall_speed_m_per_s;
+  const double a_max = wall.gap_m / dt;
+  if (!(a > a_max)) return;
+  double* x = s.guard_response.data();
+  std::fill(x, x + 6 * inside, 0.0);
+  for (int c = 0; c < 3; ++c) x[c] = n(c), x[3 + c] = rn(c);
+  s.system.solveInPlace(inside, x);
+  const double response = n.dot(Vec3(x[0], x[1], x[2])) + rn.dot(Vec3(x[3], x[4], x[5]));
+  if (!(response > 0) || !std::isfinite(response)) return;
+  const double impulse = (a - a_max) / response;
+  for (int i = 0; i < 6 * inside; ++i) du[i] -= impulse * x[i];
+  s.lens_impulse_Ns = impulse;
+}
+
 // Integrate the simulated segments: u += du, x += dt u. Limit: a segment faster than the
 // solve is trusted with is slowed to that speed or spin.
 void integrateSegments(const ScopeModel& m, ScopeState& s, int inside, double dt) {
@@ -311,6 +343,7 @@ void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, dou
   s.time_s += dt;
   if (inside == 0) {  // nothing inside: no forces on the handle
     s.handle = HandleReaction();
+    s.lens_impulse_Ns = 0;
     s.solver_ok = true;
     return;
   }
@@ -321,6 +354,7 @@ void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, dou
   // Solve for the velocity change, integrate (with the speed limits), and read the
   // handle's reaction off the last joint.
   solveVelocityChange(s, inside, dt);
+  guardLens(m, s, inside, dt);
   integrateSegments(m, s, inside, dt);
   setHandleReaction(m, s, base, inside, dt);
 }

@@ -12,6 +12,46 @@
 
 namespace colosim {
 
+namespace {
+
+// The lens guard's wall: the tip slice's tracked location (the lens is the centre of the
+// tip segment's last slice, at the face), its outward normal towards the lens, the gap
+// left to the wall less the margin, and the wall's speed along the normal.
+void setLensWall(const WorldModel& m, WorldState& s) {
+  ScopeState::LensWall& wall = s.scope.lens_wall;
+  wall.active = false;
+  s.lens_wall_segment = -1;
+  const int slices = m.scope.params.slices_per_segment;
+  if (s.scope.inside == 0 || m.contact.lens_margin_m < 0 || m.scope.tip_face_points_S.empty()) return;
+  const WallTrack& t = s.slice_track[static_cast<size_t>(slices) - 1];
+  if (t.colon_segment < 0) return;
+  const Vec3 lens = tipFacePoint(m.scope, s.scope, 0);
+  const Vec3 d = lens - splinePoint(s.colon.q, t.colon_segment, t.p);
+  const double dist = d.norm();
+  if (!(dist > 1e-9)) return;
+  wall.n_W = d / dist;
+  wall.gap_m = m.colon.radiusAt(t.colon_segment, t.p) - dist - m.contact.lens_margin_m;
+  wall.wall_speed_m_per_s = apply(blend(m.colon.n, t.colon_segment, t.p, 0), s.colon.v).dot(wall.n_W);
+  wall.active = std::isfinite(wall.gap_m) && std::isfinite(wall.wall_speed_m_per_s);
+  if (wall.active) s.lens_wall_segment = t.colon_segment, s.lens_wall_p = t.p;
+}
+
+void saveColonStart(WorldState& s) {
+  s.colon_start.q = s.colon.q;
+  s.colon_start.v = s.colon.v;
+  s.colon_start.time_s = s.colon.time_s;
+  s.colon_start.tension_internal = s.colon.tension_internal;
+}
+
+void restoreColonStart(WorldState& s) {
+  s.colon.q = s.colon_start.q;
+  s.colon.v = s.colon_start.v;
+  s.colon.time_s = s.colon_start.time_s;
+  s.colon.tension_internal = s.colon_start.tension_internal;
+}
+
+}  // namespace
+
 WorldModel makeWorldModel(ColonModel colon, const ScopeParams& scope, const ContactParams& contact) {
   WorldModel m;
   const Vec3 anus = colon.q_rest.col(0);
@@ -31,6 +71,9 @@ WorldState makeWorldState(const WorldModel& m) {
   s.slice_track.assign(static_cast<size_t>(m.scope.segment_count) * m.scope.params.slices_per_segment, WallTrack());
   s.wall.reserve(points);
   s.self.reserve(16 * m.colon.n);
+  s.colon_start.q = s.colon.q;
+  s.colon_start.v = s.colon.v;
+  s.colon_start.tension_internal = s.colon.tension_internal;
   return s;
 }
 
@@ -50,12 +93,24 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
                                          s.colon.loads, s.scope.loads, &s.contact_limit);
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
   for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
+  setLensWall(m, s);
+  saveColonStart(s);
   // Solve and integrate, each body with the other's contact forces held over the step.
   if (lanes) {
     lanes->run([&] { stepColon(m.colon, s.colon, dt); }, [&] { stepScope(m.scope, s.scope, in, dt); });
   } else {
     stepColon(m.colon, s.colon, dt);
     stepScope(m.scope, s.scope, in, dt);
+  }
+  // The lens guard held the lens: the wall takes the reaction over the same step.
+  if (s.scope.lens_impulse_Ns > 0 && s.lens_wall_segment >= 0) {
+    restoreColonStart(s);
+    SplineLoad l;
+    l.segment = s.lens_wall_segment;
+    l.p = s.lens_wall_p;
+    l.force_N = (s.scope.lens_impulse_Ns / dt) * s.scope.lens_wall.n_W;
+    s.colon.loads.push_back(l);
+    stepColon(m.colon, s.colon, dt);
   }
 }
 

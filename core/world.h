@@ -47,6 +47,16 @@ struct WorldState {
   /// the simulation sets each one's k and c for the next step from its scenario (0 while it
   /// is off) and its anchor when the pressing begins; anchors are state (hashed).
   std::vector<RegionSupport> support;
+  /// Scratch: the colon at the start of the step, to step it again with the lens guard's
+  /// reaction (stepWorld). Sized by makeWorldState() so that the step allocates nothing.
+  struct ColonStart {
+    Points q, v;
+    double time_s = 0;
+    std::vector<double> tension_internal;
+  } colon_start;
+  /// Where the lens guard's wall is this step: the tip slice's track (-1: no guard).
+  int lens_wall_segment = -1;
+  double lens_wall_p = 0;
 };
 
 /// How many quantities the solver limits changed in the last step (docs/hardening.md):
@@ -67,10 +77,12 @@ class ContactQuery {
 };
 
 /// One step of the world, dt_s [s]: contacts (query), contact forces, abdominal pressure
-/// (state.support), colon step, scope step. With lanes (core/step_lanes.h), the wall and
-/// self queries run at the same time, and so do the colon and scope steps: the same bits
-/// as without (the query's two finds must then not share scratch data; both shipped
-/// queries keep them apart).
+/// (state.support), the lens guard's wall (ScopeState::lens_wall), colon step, scope step;
+/// when the guard engaged (ScopeState::lens_impulse_Ns > 0), the colon is stepped again
+/// from its start with the guard's reaction added to its loads. With lanes
+/// (core/step_lanes.h), the wall and self queries run at the same time, and so do the
+/// colon and scope steps: the same bits as without (the query's two finds must then not
+/// share scratch data; both shipped queries keep them apart).
 void stepWorld(const WorldModel& model, WorldState& state, const HandleInput& input, ContactQuery& query,
                double dt_s, StepLanes* lanes = nullptr);
 

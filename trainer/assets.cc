@@ -141,6 +141,9 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   cp.wall_damping_Ns_per_m = contact.quantity("wall_damping", "N s/m", 0.0, 1e4);
   if (contact.has("wall_reference_slice_length"))
     cp.wall_reference_slice_m = contact.quantity("wall_reference_slice_length", "m", 0.0, 0.1);
+  if (contact.has("wall_thickness")) cp.wall_thickness_m = contact.quantity("wall_thickness", "m", 0.0, 0.02);
+  if (contact.has("wall_backing_stiffness"))
+    cp.wall_backing_stiffness_N_per_m = contact.quantity("wall_backing_stiffness", "N/m", 0.0, 1e6);
   cp.friction_coefficient = contact.quantity("friction_coefficient", "1", 0.0, 2.0);
   cp.friction_velocity_m_per_s = contact.quantity("friction_velocity", "m/s", 1e-6, 1.0);
   cp.self_stiffness_N_per_m = contact.quantity("self_stiffness", "N/m", 0.0, 1e6);

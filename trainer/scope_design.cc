@@ -54,6 +54,7 @@ ScopeDesign designFromJson(const std::string& text, const std::string& file) {
     top.fail("bending_section_length", "must be shorter than the working length");
   d.knob_updown_max_rad = top.quantity("knob_updown_max", "rad", 0.0, kKnobUpDownMax_rad);
   d.knob_leftright_max_rad = top.quantity("knob_leftright_max", "rad", 0.0, kKnobLeftRightMax_rad);
+  if (top.has("knob_moment_limit")) d.knob_moment_limit_Nm = top.quantity("knob_moment_limit", "N m", 0.0, 10.0);
   d.tip_light_reach_m = top.quantity("tip_light_reach", "m", 0.001, 0.2);
   d.sheath_friction = top.quantity("sheath_friction", "1", 0.0, 2.0);
   if (top.has("active")) {
@@ -123,6 +124,7 @@ void applyScopeDesign(const ScopeDesign& design, ScopeParams& params) {
   params.bending_section_length_m = design.bending_section_length_m;
   params.knob_updown_max_rad = design.knob_updown_max_rad;
   params.knob_leftright_max_rad = design.knob_leftright_max_rad;
+  params.knob_moment_limit_Nm = design.knob_moment_limit_Nm;
   params.tip_light_reach_m = design.tip_light_reach_m;
   params.active = design.active;
   params.variable_stiffness = design.variable_stiffness;

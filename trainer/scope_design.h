@@ -35,6 +35,8 @@ struct ScopeDesign {
   double bending_section_length_m = 0.09; ///< [m]
   double knob_updown_max_rad = kKnobUpDownMax_rad;      ///< [rad]
   double knob_leftright_max_rad = kKnobLeftRightMax_rad; ///< [rad]
+  /// Optional "knob_moment_limit": ScopeParams::knob_moment_limit_Nm [N m].
+  double knob_moment_limit_Nm = ScopeParams().knob_moment_limit_Nm;
   double tip_light_reach_m = 0.02;        ///< [m], ScopeParams::tip_light_reach_m
   double sheath_friction = 0.1;           ///< scope-mucosa Coulomb coefficient [-]
   /// Optional "active": actuated joints (core/active_scope.h); enabled false without it.

@@ -264,11 +264,53 @@ TEST(ContactForces, WallStiffnessIsPerLengthOfScope) {
   EXPECT_NEAR(pointForce(0.0075, 0.015, false, deep), 0.5 * p.contact.max_point_force_N, 1e-9);
 }
 
+// The wall bottoms out (ContactParams::wall_thickness_m): within the wall's thickness the
+// normal force is the paper's k d; beyond it the backing adds k_b (d - t), and the
+// stiffness handed to the implicit solves is k + k_b, continuous in force at d = t. With
+// k_b = 0 the wall is linear at every depth.
+TEST(ContactForces, TheWallBottomsOutBeyondItsThickness) {
+  WorldModel m = adultWorld();
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, 0.2);
+  const ContactParams& P = m.contact;
+  ASSERT_GT(P.wall_backing_stiffness_N_per_m, 0);
+  auto load = [&](double depth_m) {
+    WallContact c;
+    c.scope_segment = 2;
+    c.point = 0;
+    c.p_W_point = interactionPoint(m.scope, s.scope, 2, 0);
+    c.colon_segment = 5;
+    c.p = 0.5;
+    c.normal_W = Vec3(0, 0, 1);
+    c.depth_m = depth_m;
+    std::vector<WallContact> contacts = {c};
+    std::vector<SplineLoad> colon_loads;
+    std::vector<ScopeLoad> scope_loads;
+    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
+    return scope_loads.at(0);
+  };
+  const double k = P.wall_stiffness_N_per_m, kb = P.wall_backing_stiffness_N_per_m, t = P.wall_thickness_m;
+  for (double d : {0.5 * t, 0.99 * t}) {
+    const ScopeLoad l = load(d);
+    EXPECT_NEAR(-l.force_N.z(), k * d, 1e-9) << d;
+    EXPECT_NEAR(l.stiffness_N_per_m(2, 2), k, 1e-9) << d;
+  }
+  const double deep = t + 0.0005;
+  ASSERT_LT(k * deep + kb * (deep - t), P.max_point_force_N);  // below the force limit
+  const ScopeLoad l = load(deep);
+  EXPECT_NEAR(-l.force_N.z(), k * deep + kb * (deep - t), 1e-9);
+  EXPECT_NEAR(l.stiffness_N_per_m(2, 2), k + kb, 1e-9);
+  EXPECT_NEAR(-load(t + 1e-9).force_N.z(), k * t, 1e-4);  // continuous at the thickness
+  m.contact.wall_backing_stiffness_N_per_m = 0;
+  EXPECT_NEAR(-load(deep).force_N.z(), k * deep, 1e-9);
+}
+
 // The contact force limit (docs/hardening.md): a point pushed far into the wall asks for
 // more than max_point_force_N; it gets exactly the limit, in the same direction, with its
 // stiffness and damping scaled alike, and the report counts it. NaN geometry is dropped.
 TEST(ContactForces, ForceAboveTheLimitIsScaledDownAndCounted) {
-  const WorldModel m = adultWorld();
+  WorldModel m = adultWorld();
+  m.contact.wall_backing_stiffness_N_per_m = 0;  // the linear wall: depths in proportion to forces
   WorldState s = makeWorldState(m);
   threadScopeAlongColon(m, s, 0.2);
   WallContact c;

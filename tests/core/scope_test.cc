@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/active_scope.h"
 #include "core/rotation.h"
 #include "tests/random_vec3.h"
 #include "step.h"
@@ -79,6 +80,102 @@ TEST(Scope, TipKnobBendsTheTipByTheCommandedAngleWhenFree) {
   const Vec3 shaft = s.R_WS[m.bending_joints].col(2), tip = s.R_WS[0].col(2);
   EXPECT_NEAR(angleBetween(shaft, tip) * 180 / M_PI, 160.0, 1.0);
   EXPECT_GT(tip.dot(-s.R_WS[m.bending_joints].col(0)), 0.2);  // towards -d1: the image's right
+}
+
+// Holds the inserted scope for `steps` with a constant force F_W on the tip face's centre.
+void holdWithTipLoad(const ScopeModel& m, ScopeState& s, const Vec3& F_W, int steps) {
+  for (int k = 0; k < steps; ++k) {
+    s.loads.clear();
+    ScopeLoad l;
+    l.segment = 0;
+    l.r_W = 0.5 * m.h_m * s.R_WS[0].col(2);
+    l.force_N = F_W;
+    s.loads.push_back(l);
+    stepScope(m, s, s.input, kDt);
+  }
+}
+
+// The angulation wires (ScopeParams::knob_moment_limit_Nm): a load on the tip that the
+// bending section resists with less than the wires' moment bends it elastically, exactly
+// as on a scope without the limit (the same bits), each joint by its static moment over
+// EI/h; a load that asks more makes the section give way, so that no wire moment exceeds
+// the limit; let go, the tip returns to the knobs' bend. (A short insertion, 15 cm, so
+// that the section's base carries most of the moment.)
+TEST(Scope, TheWiresHoldTheBendingSectionUpToTheirMomentAndThenGiveWay) {
+  const ScopeModel limited = freeScope();
+  ScopeParams p;
+  p.knob_moment_limit_Nm = 0;
+  const ScopeModel unlimited = buildScopeModel(p, Vec3::Zero(), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3::Zero());
+  const double limit = limited.params.knob_moment_limit_Nm;
+  ASSERT_GT(limit, 0);
+  const int base = limited.bending_joints - 1;
+  const double kb = limited.joint_stiffness_Nm_per_rad[base].x();
+  auto bendAt = [](const ScopeState& s, int k) { return logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]); };
+  // The static moment of the tip load F_W about joint k (segment k's proximal end) [N m].
+  auto momentAt = [&](const ScopeState& s, int k, const Vec3& F_W) {
+    const Vec3 tip = s.p_W[0] + 0.5 * limited.h_m * s.R_WS[0].col(2);
+    const Vec3 joint = s.p_W[k] - 0.5 * limited.h_m * s.R_WS[k].col(2);
+    return (s.R_WS[k + 1].transpose() * (tip - joint).cross(F_W)).head<2>().norm();
+  };
+  const double lever_m = (base + 1) * limited.h_m;
+  // Below the limit at every joint: half of it at the base joint.
+  const Vec3 small = Vec3(0, 0, 0.5 * limit / lever_m);
+  ScopeState a = insertAndHold(limited, 0.15, 0.5, 0.2), b = insertAndHold(unlimited, 0.15, 0.5, 0.2);
+  holdWithTipLoad(limited, a, small, 3000);
+  holdWithTipLoad(unlimited, b, small, 3000);
+  for (int k = 0; k < limited.segment_count; ++k) {
+    EXPECT_EQ(a.p_W[k], b.p_W[k]) << k;
+    EXPECT_EQ(a.R_WS[k], b.R_WS[k]) << k;
+  }
+  const double m_small = momentAt(a, base, small);
+  EXPECT_LT(m_small, limit);
+  EXPECT_NEAR(bendAt(a, base).head<2>().norm(), m_small / kb, 0.01 * m_small / kb);
+  // Twice the limit at the base joint: the section gives way.
+  const Vec3 large = Vec3(0, 0, 2.0 * limit / lever_m);
+  double worst_moment = 0;
+  for (int k = 0; k < 3000; ++k) {
+    holdWithTipLoad(limited, a, large, 1);
+    for (int j = 0; j < limited.bending_joints; ++j) {
+      const Vec3 rest = wireLimitedRest(limited, a, j, a.input);
+      worst_moment = std::max(worst_moment, limited.joint_stiffness_Nm_per_rad[j].x() * (rest - bendAt(a, j)).head<2>().norm());
+    }
+  }
+  holdWithTipLoad(unlimited, b, large, 3000);
+  EXPECT_LE(worst_moment, limit * (1 + 1e-12));
+  EXPECT_GT(momentAt(b, base, large), 1.2 * limit) << "the load does not ask more than the wires hold";
+  const double given_way = bendAt(a, base).head<2>().norm(), elastic = bendAt(b, base).head<2>().norm();
+  EXPECT_GT(given_way, 2 * elastic) << "the wires held more than their moment";
+  // Let go: back to the knobs' bend (straight).
+  holdWithTipLoad(limited, a, Vec3::Zero(), 3000);
+  for (int j = 0; j < limited.bending_joints; ++j) EXPECT_LT(bendAt(a, j).head<2>().norm(), 1e-3) << j;
+}
+
+// The lens guard (core/scope_step.cc guardLens): the handle pushes the straight scope at
+// 5 cm/s face-on against a wall 1 mm ahead of the lens, and on to 0.2 mm beyond it. The lens
+// stops at the wall and stays there (within the linearisation of one step), where a
+// penalty wall would be indented; at rest the guard's reaction balances the handle's push
+// (the chain's joints carry the 0.2 mm).
+TEST(Scope, TheLensGuardStopsTheLensAtTheWall) {
+  const ScopeModel m = freeScope();
+  ScopeState s = insertAndHold(m, 0.3, 0.5, 0.2);
+  const double wall_x = tipPosition(m, s).x() + 0.001;
+  double deepest = -1;
+  HandleInput in = s.input;
+  for (int k = 0; k < 1500; ++k) {
+    in.insertion_m = std::min(0.3012, in.insertion_m + 0.00005);
+    const Vec3 lens = s.p_W[0] + s.R_WS[0] * m.tip_face_points_S[0];
+    s.loads.clear();
+    s.lens_wall.active = true;
+    s.lens_wall.n_W = Vec3(1, 0, 0);
+    s.lens_wall.gap_m = wall_x - lens.x();
+    s.lens_wall.wall_speed_m_per_s = 0;
+    stepScope(m, s, in, kDt);
+    deepest = std::max(deepest, (s.p_W[0] + s.R_WS[0] * m.tip_face_points_S[0]).x() - wall_x);
+  }
+  EXPECT_LT(deepest, 1e-6);
+  EXPECT_GT(s.lens_impulse_Ns, 0);
+  EXPECT_GT(s.handle.force_N, 1.0);  // the chain is loaded
+  EXPECT_NEAR(s.lens_impulse_Ns / kDt, s.handle.force_N, 0.02 * s.handle.force_N);
 }
 
 TEST(Scope, KnobsStopAtTheirLimits) {

@@ -460,7 +460,9 @@ TEST(Session, HashesPrintAsSixteenHexDigits) {
 }
 
 // The same on a real recording of the colon + scope simulation (issue 8): 1.05 s with the
-// knobs slammed twice (solver_limited events), a checkpoint at 1 s and the end line, cut at
+// knobs slammed twice (solver_limited events: on a scope whose wires never give way,
+// knob_moment_limit 0, the slams ask the tip for more spin than the solve is trusted
+// with), a checkpoint at 1 s and the end line, cut at
 // every byte. Every cut is refused with a message naming the file (only before the header
 // line is complete) or read up to its last complete record; each distinct prefix is
 // replayed on the world simulation and reproduces the checkpoints it holds.
@@ -474,9 +476,13 @@ TEST(Session, RealWorldSessionCutAtEveryByteReplaysItsCompleteRecords) {
                   "\"knob_leftright_rad\": %.17g}", t, knob_ud, knob_lr);
     return std::string(b);
   };
+  nlohmann::json scope = nlohmann::json::parse(test::readFile(test::asset("scopes/standard.json")));
+  scope["knob_moment_limit"]["value"] = 0.0;
+  const std::string scope_path = dir.write("unyielding.json", scope.dump(1));
   const std::string scenario_path = dir.write("slam.json",
       "{\"format\": \"colosim-scenario\", \"version\": 1, \"name\": \"slam\", \"description\": \"knob slams\",\n"
-      " \"anatomy\": \"anatomy/adult.json\", \"params\": \"params/default.json\", \"dt_s\": 0.001,\n"
+      " \"anatomy\": \"anatomy/adult.json\", \"params\": \"params/default.json\", \"scope\": \"" + scope_path +
+      "\", \"dt_s\": 0.001,\n"
       " \"duration_s\": 1.05, \"seed\": 1, \"start\": {\"kind\": \"rest\"}, \"script\": [\n  " +
       key(0, 0, 0) + ",\n  " + key(0.02, 0, 0) + ",\n  " + key(0.021, pi, -lr) + ",\n  " + key(0.5, pi, -lr) +
       ",\n  " + key(0.501, 0, 0) + "]}\n");

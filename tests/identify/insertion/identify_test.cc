@@ -136,12 +136,15 @@ TEST(OrganIdentify, FineDataWithNothingHiddenFitToTheNoise) {
 // cyclic_softening, seed 1003 of tools/organ_trials (two-rate protocol, 2 s, made at 1.5 cm,
 // d_inf 0.41 hidden): the coarse search chose nothing, and a fallback that started softening
 // from one grid value (0.06-0.24) found its best at 0 and named permanent_set instead.
+// Since the wires and the backed wall of session 15 that case is settled without the
+// fallback; seed 1002 (d_inf 0.42) goes through it (seeds 1001-1005: the fallback in 1002
+// and 1004, softening named in all five).
 TEST(OrganIdentify, TheFallbackSearchesEveryCandidateFromItsWholeGrid) {
   const ReplaySetup fine = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
   const std::vector<std::string>& names = organEffectNames();
   const int softening = static_cast<int>(std::find(names.begin(), names.end(), "cyclic_softening") - names.begin());
   ASSERT_LT(softening, static_cast<int>(names.size()));
-  const SyntheticInsertionSpec spec = drawTwoRateInsertion(1003, softening, 2.0);
+  const SyntheticInsertionSpec spec = drawTwoRateInsertion(1002, softening, 2.0);
   const InsertionRecording rec = makeSyntheticInsertion(fine, spec);
   InsertionIdentifyOptions opt;
   opt.threads = 2;
