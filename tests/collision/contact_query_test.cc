@@ -225,6 +225,20 @@ TEST(ContactForces, ActionEqualsReaction) {
   EXPECT_LT(total.norm(), 1e-12 * scope_total.norm() + 1e-14);
 }
 
+// A contact `depth_m` deep along +z at colon location 5 / 0.5, of interaction point 0 of
+// scope segment 2 or (face) of the tip face's lens, the scope threaded to 0.2 m.
+WallContact pressedPoint(const WorldModel& m, const WorldState& s, bool face, double depth_m) {
+  WallContact c;
+  c.scope_segment = face ? 0 : 2;
+  c.point = face ? static_cast<int>(m.scope.interaction_points_S.size()) : 0;
+  c.p_W_point = face ? tipFacePoint(m.scope, s.scope, 0) : interactionPoint(m.scope, s.scope, 2, 0);
+  c.colon_segment = 5;
+  c.p = 0.5;
+  c.normal_W = Vec3(0, 0, 1);
+  c.depth_m = depth_m;
+  return c;
+}
+
 // The wall is stiff per length of scope, not per interaction point: the same depth on a
 // slice half as long (segments of 0.75 cm) gives half the force per point, so that the
 // wall's force per metre of scope pressed into it does not change with the resolution.
@@ -239,15 +253,7 @@ TEST(ContactForces, WallStiffnessIsPerLengthOfScope) {
     const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), q);
     WorldState s = makeWorldState(m);
     threadScopeAlongColon(m, s, 0.2);
-    WallContact c;
-    c.scope_segment = face ? 0 : 2;
-    c.point = face ? static_cast<int>(m.scope.interaction_points_S.size()) : 0;
-    c.p_W_point = face ? tipFacePoint(m.scope, s.scope, 0) : interactionPoint(m.scope, s.scope, 2, 0);
-    c.colon_segment = 5;
-    c.p = 0.5;
-    c.normal_W = Vec3(0, 0, 1);
-    c.depth_m = depth_m;
-    std::vector<WallContact> contacts = {c};
+    std::vector<WallContact> contacts = {pressedPoint(m, s, face, depth_m)};
     std::vector<SplineLoad> colon_loads;
     std::vector<ScopeLoad> scope_loads;
     applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
@@ -275,15 +281,7 @@ TEST(ContactForces, TheWallBottomsOutBeyondItsThickness) {
   const ContactParams& P = m.contact;
   ASSERT_GT(P.wall_backing_stiffness_N_per_m, 0);
   auto load = [&](double depth_m) {
-    WallContact c;
-    c.scope_segment = 2;
-    c.point = 0;
-    c.p_W_point = interactionPoint(m.scope, s.scope, 2, 0);
-    c.colon_segment = 5;
-    c.p = 0.5;
-    c.normal_W = Vec3(0, 0, 1);
-    c.depth_m = depth_m;
-    std::vector<WallContact> contacts = {c};
+    std::vector<WallContact> contacts = {pressedPoint(m, s, false, depth_m)};
     std::vector<SplineLoad> colon_loads;
     std::vector<ScopeLoad> scope_loads;
     applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
@@ -313,15 +311,8 @@ TEST(ContactForces, ForceAboveTheLimitIsScaledDownAndCounted) {
   m.contact.wall_backing_stiffness_N_per_m = 0;  // the linear wall: depths in proportion to forces
   WorldState s = makeWorldState(m);
   threadScopeAlongColon(m, s, 0.2);
-  WallContact c;
-  c.scope_segment = 2;
-  c.point = 0;
-  c.p_W_point = interactionPoint(m.scope, s.scope, 2, 0);
-  c.colon_segment = 5;
-  c.p = 0.5;
-  c.normal_W = Vec3(0, 0, 1);
   const double limit = m.contact.max_point_force_N;
-  c.depth_m = 3.0 * limit / m.contact.wall_stiffness_N_per_m;  // asks for ~3 x the limit
+  WallContact c = pressedPoint(m, s, false, 3.0 * limit / m.contact.wall_stiffness_N_per_m);  // asks ~3 x the limit
   WallContact bad = c;
   bad.depth_m = std::nan("");
   std::vector<WallContact> contacts = {c, bad};

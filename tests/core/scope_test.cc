@@ -82,17 +82,20 @@ TEST(Scope, TipKnobBendsTheTipByTheCommandedAngleWhenFree) {
   EXPECT_GT(tip.dot(-s.R_WS[m.bending_joints].col(0)), 0.2);  // towards -d1: the image's right
 }
 
+// One step with the inputs `in` and a force F_W on the tip face's centre.
+void stepWithTipLoad(const ScopeModel& m, ScopeState& s, const Vec3& F_W, const HandleInput& in) {
+  s.loads.clear();
+  ScopeLoad l;
+  l.segment = 0;
+  l.r_W = 0.5 * m.h_m * s.R_WS[0].col(2);
+  l.force_N = F_W;
+  s.loads.push_back(l);
+  stepScope(m, s, in, kDt);
+}
+
 // Holds the inserted scope for `steps` with a constant force F_W on the tip face's centre.
 void holdWithTipLoad(const ScopeModel& m, ScopeState& s, const Vec3& F_W, int steps) {
-  for (int k = 0; k < steps; ++k) {
-    s.loads.clear();
-    ScopeLoad l;
-    l.segment = 0;
-    l.r_W = 0.5 * m.h_m * s.R_WS[0].col(2);
-    l.force_N = F_W;
-    s.loads.push_back(l);
-    stepScope(m, s, s.input, kDt);
-  }
+  for (int k = 0; k < steps; ++k) stepWithTipLoad(m, s, F_W, s.input);
 }
 
 // The angulation wires (ScopeParams::knob_moment_limit_Nm): a load on the tip that the
@@ -229,15 +232,7 @@ TEST(Scope, WithdrawingABentScopeFeelsNoKickAsSegmentsComeOut) {
   const ScopeModel m = freeScope();
   ScopeState s = insertAndHold(m, 0.30, 0.5, 0.0);
   const Vec3 load(0, 0, -0.6);  // [N]
-  auto step = [&](const HandleInput& in) {
-    s.loads.clear();
-    ScopeLoad tip;
-    tip.segment = 0;
-    tip.r_W = 0.5 * m.h_m * s.R_WS[0].col(2);
-    tip.force_N = load;
-    s.loads.push_back(tip);
-    stepScope(m, s, in, kDt);
-  };
+  auto step = [&](const HandleInput& in) { stepWithTipLoad(m, s, load, in); };
   HandleInput in = s.input;
   for (int k = 0; k < 3000; ++k) step(in);  // settle under the load
   const double base_angle = angleBetween(s.R_WS[s.inside - 1].col(2), Vec3(1, 0, 0));
