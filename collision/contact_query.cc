@@ -88,8 +88,8 @@ bool collectPair(fcl::CollisionObjectd* o1, fcl::CollisionObjectd* o2, void* dat
 
 struct FclContactQuery::Impl final : TrackingCandidates {
   explicit Impl(const WorldModel& m) : tracker(m) {}
-  SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
-                              const SplineLocation& local) override;
+  SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const ColonModel& colon, const Vec3& x,
+                              int k, const SplineLocation& local, double local_clearance_m) override;
 
   ContactTracker tracker;
   std::unique_ptr<fcl::BroadPhaseCollisionManagerd> colon_mgr, scope_mgr, sphere_mgr;
@@ -107,25 +107,37 @@ struct FclContactQuery::Impl final : TrackingCandidates {
 };
 
 // Other colon segments near x (broadphase candidates of scope segment k off the walked
-// stretch), closest bounds first, skipping those whose bounds are farther than the best so far.
-SplineLocation FclContactQuery::Impl::nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
-                                                   const SplineLocation& local) {
+// stretch), by a lower bound of their clearance (a lower bound of the distance less the
+// segment's largest radius), skipping those that cannot beat the best so far.
+SplineLocation FclContactQuery::Impl::nearestOther(const std::vector<SegmentCubic>& cubics, const ColonModel& colon,
+                                                   const Vec3& x, int k, const SplineLocation& local,
+                                                   double local_clearance_m) {
   order.clear();
   for (int c = first[k]; c < first[k + 1]; ++c) {
     const int j = pairs[c].first;
     if (std::abs(j - local.j) <= 1) continue;
+    const double r_max = std::max(colon.radius_m(j), colon.radius_m(j + 1));
     // Two lower bounds of the distance to the segment: its box (squared, no root unless
-    // it passes) and its ball.
+    // it can pass) and its ball.
+    const double reach = local_clearance_m + r_max;  // farther than this cannot beat the walk
+    if (!(reach > 0)) continue;
     const double box2 = (lo[j] - x).cwiseMax(x - hi[j]).cwiseMax(0.0).squaredNorm();
-    if (!(box2 < local.d * local.d)) continue;
-    const double bound = std::max(std::sqrt(box2), (x - mid[j]).norm() - rho[j]);
-    if (bound < local.d) order.emplace_back(bound, j);
+    if (!(box2 < reach * reach)) continue;
+    const double bound = std::max(std::sqrt(box2), (x - mid[j]).norm() - rho[j]) - r_max;
+    if (bound < local_clearance_m) order.emplace_back(bound, j);
   }
   std::sort(order.begin(), order.end());
   SplineLocation other;
+  double best = local_clearance_m;
   for (const auto& [bound, j] : order) {
-    if (bound >= std::min(other.d, local.d)) break;
-    considerSegment(cubics, j, x, other);
+    if (bound >= best) break;
+    SplineLocation at;
+    considerSegment(cubics, j, x, at);
+    const double c = clearance(colon, at);
+    if (c < best) {
+      best = c;
+      other = at;
+    }
   }
   return other;
 }

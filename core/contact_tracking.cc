@@ -45,6 +45,29 @@ SplineLocation walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3
   return local;
 }
 
+SplineLocation walkToLeastClearance(const std::vector<SegmentCubic>& cubics, const ColonModel& colon, const Vec3& x,
+                                    int start) {
+  SplineLocation best = walkToNearest(cubics, x, start);
+  if (best.j < 0) return best;
+  double least = clearance(colon, best);
+  if (!(least > 0)) return best;  // inside the lumen there: that is where it is
+  const int nseg = static_cast<int>(cubics.size());
+  for (int step : {-1, 1}) {
+    bool moved = false;
+    for (int j = best.j + step; j >= 0 && j < nseg; j += step) {
+      SplineLocation next;
+      considerSegment(cubics, j, x, next);
+      const double c = clearance(colon, next);
+      if (!(c < least)) break;
+      best = next;
+      least = c;
+      moved = true;
+    }
+    if (moved) break;
+  }
+  return best;
+}
+
 bool colonStaysNear(const std::vector<SegmentCubic>& cubics, const SplineLocation& a, const SplineLocation& b,
                     const Vec3& x, double reach_m) {
   const int lo = std::min(a.j, b.j), hi = std::max(a.j, b.j);
@@ -84,9 +107,14 @@ void scanWallContacts(const WorldModel& m, const std::vector<SegmentCubic>& cubi
   s.wall.clear();
   const int P = static_cast<int>(m.scope.interaction_points_S.size());
   const int slices = m.scope.params.slices_per_segment;
-  auto nearest = [&](const Vec3& x) {
+  auto nearest = [&](const Vec3& x) {  // the least clearance (each segment at its point nearest x)
     SplineLocation best;
-    for (int j = 0; j + 1 < m.colon.n; ++j) considerSegment(cubics, j, x, best);
+    double least = kInf;
+    for (int j = 0; j + 1 < m.colon.n; ++j) {
+      SplineLocation at;
+      considerSegment(cubics, j, x, at);
+      if (clearance(m.colon, at) < least) least = clearance(m.colon, at), best = at;
+    }
     return best;
   };
   for (int k = 0; k < s.scope.inside; ++k) {
@@ -119,12 +147,16 @@ void ContactTracker::updateCubics(const ColonState& colon) { updateSegmentCubics
 
 SplineLocation ContactTracker::nearestOnPart(const WorldModel& m, const Vec3& x, const SplineLocation& anchor, int k,
                                              TrackingCandidates& candidates) {
-  // 1. Walk along the spline from the anchor to the local minimum of the distance.
-  const SplineLocation local = walkToNearest(cubics_, x, anchor.j);
-  // 2. A nearer location from the candidate search, when the colon from the anchor to it
-  //    stays near x (a fold or pleat of the same part).
-  const SplineLocation other = candidates.nearestOther(cubics_, x, k, local);
-  if (other.j < 0 || !(other.d < local.d)) return local;
+  // 1. Walk along the spline from the anchor to the local minimum of the clearance.
+  const SplineLocation local = walkToLeastClearance(cubics_, m.colon, x, anchor.j);
+  // 2. A location of less clearance from the candidate search, when the colon from the
+  //    anchor to it stays near x (a fold or pleat of the same part). A point inside the
+  //    lumen where the walk leaves it is inside the colon, however near the centreline of a
+  //    narrower pleat gathered against that wall may be.
+  const double local_clearance = clearance(m.colon, local);
+  if (!(local_clearance > 0)) return local;
+  const SplineLocation other = candidates.nearestOther(cubics_, m.colon, x, k, local, local_clearance);
+  if (other.j < 0 || !(clearance(m.colon, other) < local_clearance)) return local;
   const double reach_m = m.contact.self_neighbour_radii * m.colon.radiusAt(anchor.j, anchor.p);
   return colonStaysNear(cubics_, anchor, other, x, reach_m) ? other : local;
 }
@@ -147,8 +179,8 @@ void ContactTracker::trackWallContacts(const WorldModel& m, WorldState& s, Track
       // again: its first closest point is the axis's own, strictly inside the segment.)
       const int before = s.slice_track[k * slices + sl].colon_segment;
       if (before >= 0 && !(before == axis.j && axis.p > 0.0 && axis.p < 1.0)) {
-        const SplineLocation own = walkToNearest(cubics_, centre, before);
-        if (own.d < axis.d) axis = own;
+        const SplineLocation own = walkToLeastClearance(cubics_, colon, centre, before);
+        if (clearance(colon, own) < clearance(colon, axis)) axis = own;
       }
       axes_[k * slices + sl] = axis;
       s.slice_track[k * slices + sl] = {axis.j, axis.p};

@@ -9,16 +9,25 @@
 // enters at the anus and runs inside the lumen, so the part each slice is in follows from
 // its proximal neighbour's: the contact topology. The rule, per step
 // (ContactTracker::trackWallContacts):
+// A point inside the lumen where the walk by distance leaves it is inside the colon, however
+// near the centreline of a narrower pleat gathered against that wall: it stays there.
+// Outside it, locations are compared by clearance: the distance from the centreline less
+// the lumen radius there. The wall is the envelope of the lumen's cross-sections, so where
+// the lumen tapers (the rectum's 22 mm narrowing to the sigmoid's 17.5 mm within one
+// segment) the wall nearest a point lies towards the wider end, not at the nearest
+// centreline point.
 //  1. Chain: the slice centres on the scope's axis are located from the anus to the tip.
 //     The first slice inside is anchored at the anus (the colon's start), every later one at
 //     its proximal neighbour's location. From its anchor a slice walks along the spline to
-//     the local minimum of the distance (walkToNearest). It also walks from where it was a
-//     step ago (state.slice_track) and keeps the nearer: the colon moves less than a few mm
-//     in a step, so that walk stays in its lumen too, and it holds a slice whose
-//     neighbour's walk stops short in a fold.
+//     the local minimum of the distance and, outside the lumen there, on to that of the
+//     clearance (walkToLeastClearance). It also walks from where it
+//     was a step ago (state.slice_track) and keeps the one of less clearance: the colon moves
+//     less than a few mm in a step, so that walk stays in its lumen too, and it holds a
+//     slice whose neighbour's walk stops short in a fold.
 //  2. Same part: the search behind ContactQuery (the broadphase, collision/) offers the
-//     nearest location on the other colon segments near the slice's scope segment
-//     (TrackingCandidates). A nearer one takes over only when the colon from the anchor to
+//     location of least clearance on the other colon segments near the slice's scope
+//     segment (TrackingCandidates, exact: it depends on the present colon alone). One of
+//     less clearance takes over only when the colon from the anchor to
 //     it stays near the slice (colonStaysNear: every control point between within
 //     ContactParams::self_neighbour_radii lumen radii of it): a fold or a pleat of the part
 //     the slice is in, where the walk stopped at a shallow minimum. Another part that only
@@ -51,6 +60,12 @@ struct SplineLocation {
   double d = 1e300;  ///< distance [m]
 };
 
+/// How far x at distance `at.d` from the centreline lies beyond the lumen wall there
+/// (negative: inside) [m].
+inline double clearance(const ColonModel& colon, const SplineLocation& at) {
+  return at.d - colon.radiusAt(at.j, at.p);
+}
+
 /// The cubics of every colon segment of the current centreline (resized to n - 1).
 void updateSegmentCubics(const Points& q, std::vector<SegmentCubic>& cubics);
 
@@ -61,6 +76,16 @@ void considerSegment(const std::vector<SegmentCubic>& cubics, int j, const Vec3&
 /// (-1: none, returned as such): while the minimum sits at a segment end, the next segment
 /// is tried.
 SplineLocation walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3& x, int start);
+
+/// For x outside the lumen at the distance's local minimum (walkToNearest from segment
+/// `start`; -1: none, returned as such), the local minimum of the clearance along the
+/// spline (each segment at its point nearest x): on to the next segment either way while
+/// it has less clearance. Where the lumen tapers (the rectum's 22 mm to the sigmoid's
+/// 17.5 mm in one segment) the wall nearest x is not at the nearest centreline point but
+/// towards the wider end. For x inside the lumen there, that location: x is in the colon,
+/// and a walk on to wider places would only drift along the colon.
+SplineLocation walkToLeastClearance(const std::vector<SegmentCubic>& cubics, const ColonModel& colon, const Vec3& x,
+                                    int start);
 
 /// Rule 2: whether the colon between locations a and b (j >= 0) stays within reach_m of x at
 /// every control point between them (`cubics`: the present centreline).
@@ -76,19 +101,24 @@ void recordIfOutside(const WorldModel& model, const std::vector<SegmentCubic>& c
 void resetOutsideTracks(const WorldModel& model, WorldState& state);
 
 /// The paper's method, the reference: every interaction point of the simulated segments
-/// takes the nearest point of the whole spline (`cubics` of state.colon), the tip face's
-/// points and the slice centres too; fills state.wall, state.track and state.slice_track.
+/// takes the place of least clearance on the whole spline (`cubics` of state.colon; each
+/// segment at its point nearest the point: the paper's nearest point where the radius is
+/// constant), the tip face's points and the slice centres too; fills state.wall,
+/// state.track and state.slice_track.
 void scanWallContacts(const WorldModel& model, const std::vector<SegmentCubic>& cubics, WorldState& state);
 
 /// What a candidate search (a broadphase) offers the tracking (rule 2).
 class TrackingCandidates {
  public:
   virtual ~TrackingCandidates() = default;
-  /// The nearest location to x on the colon segments near scope segment k, leaving out
-  /// local.j - 1 .. local.j + 1 and any segment that cannot be nearer than local.d; none
-  /// (j = -1) when no such segment is nearer.
-  virtual SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int k,
-                                      const SplineLocation& local) = 0;
+  /// The location of least clearance to x (each segment at its point nearest x) on the
+  /// colon segments near scope segment k, leaving out local.j - 1 .. local.j + 1; none
+  /// (j = -1) when no such segment has less clearance than `local_clearance_m`. Exact: a
+  /// segment is skipped only when a lower bound of its clearance rules it out, so the
+  /// answer depends on the colon and x alone.
+  virtual SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const ColonModel& colon,
+                                      const Vec3& x, int k, const SplineLocation& local,
+                                      double local_clearance_m) = 0;
 };
 
 /// The tracked narrowphase (rules 1-5), with its scratch.

@@ -46,14 +46,21 @@ void randomPose(const WorldModel& m, WorldState& s, std::mt19937& rng) {
 }
 
 // Whether the nearest wall location of x is unambiguous: no part of the colon far in
-// arclength (another part of a loop) comes within `gap` of the nearest distance.
+// arclength (another part of a loop) comes within `gap` of the least clearance (distance
+// less the lumen radius, each segment at its point nearest x).
 bool unambiguous(const WorldModel& m, const WorldState& s, const Vec3& x, double gap) {
-  const ClosestPoint best = closestPointOnSpline(s.colon.q, x);
-  const double s_best = m.colon.arclengthAt(best.segment, best.p);
+  auto clearanceOf = [&](int j, const ClosestPoint& c) { return c.distance - m.colon.radiusAt(j, c.p); };
+  int best_j = 0;
+  ClosestPoint best = closestPointOnSegment(s.colon.q, 0, x);
+  for (int j = 1; j + 1 < m.colon.n; ++j) {
+    const ClosestPoint c = closestPointOnSegment(s.colon.q, j, x);
+    if (clearanceOf(j, c) < clearanceOf(best_j, best)) best = c, best_j = j;
+  }
+  const double s_best = m.colon.arclengthAt(best_j, best.p);
   for (int j = 0; j + 1 < m.colon.n; ++j) {
     const ClosestPoint c = closestPointOnSegment(s.colon.q, j, x);
     const double ds = std::abs(m.colon.arclengthAt(j, c.p) - s_best);
-    if (ds > 0.1 && c.distance < best.distance + gap) return false;
+    if (ds > 0.1 && clearanceOf(j, c) < clearanceOf(best_j, best) + gap) return false;
   }
   return true;
 }

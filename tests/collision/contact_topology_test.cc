@@ -4,14 +4,18 @@
 // core/lumen_check.h.
 #include <algorithm>
 #include <memory>
+#include <random>
 
 #include <gtest/gtest.h>
 
 #include "collision/contact_query.h"
 #include "core/lumen_check.h"
+#include "core/rotation.h"
 #include "core/tension_law.h"
 #include "fixture.h"
 #include "trainer/assets.h"
+#include "tests/core/every_segment.h"
+#include "tests/random_vec3.h"
 #include "step.h"
 
 namespace colosim {
@@ -123,6 +127,64 @@ TEST(ContactTopology, AScopePulledThroughAFoldIntoTheRectumStaysInTheSigmoid) {
   EXPECT_LT(held.check.track_jump_m, 0.03);
 }
 
+
+// EverySegment, counting what it offers.
+struct CountingEverySegment final : TrackingCandidates {
+  SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const ColonModel& colon, const Vec3& x, int k,
+                              const SplineLocation& local, double local_clearance_m) override {
+    const SplineLocation other = every.nearestOther(cubics, colon, x, k, local, local_clearance_m);
+    ++queries;
+    if (other.j >= 0) ++offered;
+    return other;
+  }
+  EverySegment every;
+  int queries = 0, offered = 0;
+};
+
+// The fast path and brute force: the broadphase's candidate search (the least clearance,
+// pruned by lower bounds) finds what a search of every colon segment finds, bit for bit,
+// in the folded sigmoid with the scope shaken about it (the colon too; 80 poses) and tracked twice
+// (the second round from the first's tracks).
+TEST(ContactTopology, TheBroadphaseFindsWhatASearchOfEverySegmentFinds) {
+  const WorldModel m = foldedSigmoidWorld();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  FclContactQuery query(m);
+  ContactTracker tracker(m);
+  CountingEverySegment every;
+  int contacts = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    WorldState fast = makeWorldState(m);
+    threadScopeAlongColon(m, fast, 0.15 + 0.005 * trial);
+    for (int k = 0; k < fast.scope.inside; ++k) {
+      fast.scope.p_W[k] += 0.010 * test::randomVec3(u, rng);
+      fast.scope.R_WS[k] = expSO3(0.3 * test::randomVec3(u, rng)) * fast.scope.R_WS[k];
+    }
+    for (int i = 0; i < m.colon.n; ++i) fast.colon.q.col(i) += 0.006 * test::randomVec3(u, rng);
+    WorldState brute = fast;
+    for (int round = 0; round < 2; ++round) {
+      query.findWallContacts(m, fast);
+      tracker.updateCubics(brute.colon);
+      tracker.trackWallContacts(m, brute, every);
+      ASSERT_EQ(fast.slice_track.size(), brute.slice_track.size());
+      for (size_t t = 0; t < fast.slice_track.size(); ++t) {
+        EXPECT_EQ(fast.slice_track[t].colon_segment, brute.slice_track[t].colon_segment) << "trial " << trial << " slice " << t;
+        EXPECT_EQ(fast.slice_track[t].p, brute.slice_track[t].p) << "trial " << trial << " slice " << t;
+      }
+      for (size_t t = 0; t < fast.track.size(); ++t) {
+        EXPECT_EQ(fast.track[t].colon_segment, brute.track[t].colon_segment) << "trial " << trial << " point " << t;
+        EXPECT_EQ(fast.track[t].p, brute.track[t].p) << "trial " << trial << " point " << t;
+      }
+      ASSERT_EQ(fast.wall.size(), brute.wall.size()) << "trial " << trial;
+      for (size_t c = 0; c < fast.wall.size(); ++c) EXPECT_EQ(fast.wall[c].depth_m, brute.wall[c].depth_m);
+      contacts += static_cast<int>(fast.wall.size());
+    }
+  }
+  std::printf("%d wall contacts compared; the search offered %d of %d queries a location off the walk\n", contacts,
+              every.offered, every.queries);
+  EXPECT_GT(contacts, 200);
+  EXPECT_GT(every.offered, 20);  // the comparison covers the candidate search, not only the walk
+}
 
 }  // namespace
 }  // namespace colosim

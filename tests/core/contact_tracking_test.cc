@@ -10,23 +10,11 @@
 #include "core/rotation.h"
 #include "core/tension_law.h"
 #include "tests/random_vec3.h"
+#include "tests/core/every_segment.h"
 #include "tests/core/small_colons.h"
 
 namespace colosim {
 namespace {
-
-// A candidate search without a broadphase: every colon segment off the walked stretch.
-class EverySegment final : public TrackingCandidates {
- public:
-  SplineLocation nearestOther(const std::vector<SegmentCubic>& cubics, const Vec3& x, int,
-                              const SplineLocation& local) override {
-    SplineLocation other;
-    for (int j = 0; j < static_cast<int>(cubics.size()); ++j)
-      if (std::abs(j - local.j) > 1) considerSegment(cubics, j, x, other);
-    return other;
-  }
-};
-
 
 // Part A along +x from the origin to 0.2 m, a half turn, part B back along y = gap_m.
 Points hairpin(double gap_m) {
@@ -101,6 +89,47 @@ TEST(ContactTracking, TheColonStaysNearAPointThroughAPleatButNotRoundALoop) {
   int on_b = 0;
   while (!(m.colon.s_rest_m(on_b) > 0.25 && std::abs(m.colon.q_rest(0, on_b) - 0.1) < 0.006)) ++on_b;
   EXPECT_FALSE(colonStaysNear(cubics, SplineLocation{10, 0.0}, SplineLocation{on_b, 0.0}, y, M_PI * 0.02));
+}
+
+// Where the colon is gathered into a pleat (the start of a free sigmoid dragged down onto the
+// scope at the top of a wider rectum, extreme_all), a point 1.5 mm inside the wide part's
+// 21.3 mm lumen can lie 0.2 mm nearer the centreline of the narrower pleat (19.4 mm),
+// outside its wall. It is inside the colon, with no contact. Rule 2 by distance alone (a
+// nearer location of the same part takes over) put it 0.2 mm beyond the pleat's wall, 6 cm
+// of colon away from its neighbours: a lumen exit.
+TEST(ContactTracking, APointInsideTheLumenWhereTheWalkLeavesItStaysThere) {
+  const double r_wide = 0.0213, r_pleat = 0.0194, inside_m = 0.0015, nearer_m = 0.0002;
+  const double d_wide = r_wide - inside_m, gap = d_wide + d_wide - nearer_m;  // centreline to centreline
+  const Points q = hairpin(gap);
+  Eigen::VectorXd radius(q.cols());
+  for (int i = 0; i < q.cols(); ++i) radius(i) = q(1, i) > 0.5 * gap ? r_pleat : (q(1, i) > 0 ? 0.02 : r_wide);
+  ColonModel colon = buildColonModelFromPoints(q, radius, 0.4, 1000, 20, Vec3::Zero(),
+                                               std::make_shared<VoigtLaw>(28.9, 0.05));
+  const WorldModel m = makeWorldModel(std::move(colon), ScopeParams(), ContactParams());
+  ContactTracker tracker(m);
+  tracker.updateCubics(makeColonState(m.colon, 0));
+  EverySegment candidates;
+  auto onWide = [&](const SplineLocation& at) { return m.colon.arclengthAt(at.j, at.p) < 0.2; };
+  const Vec3 x(0.18, d_wide, 0);
+  const SplineLocation on_wide{18, 0.0};  // x = 0.18 m
+  // The pleat is the same part (the colon from the anchor round to it stays near x) and its
+  // centreline is the nearer.
+  SplineLocation scan;
+  for (int j = 0; j + 1 < m.colon.n; ++j) considerSegment(tracker.cubics(), j, x, scan);
+  ASSERT_FALSE(onWide(scan));
+  ASSERT_NEAR(scan.d, d_wide - nearer_m, 1e-6);
+  ASSERT_TRUE(colonStaysNear(tracker.cubics(), on_wide, scan, x, m.contact.self_neighbour_radii * r_wide));
+  const SplineLocation at = tracker.nearestOnPart(m, x, on_wide, 0, candidates);
+  EXPECT_TRUE(onWide(at));
+  EXPECT_NEAR(clearance(m.colon, at), -inside_m, 1e-6);
+  // Across from the wide part's axis towards the pleat's: on the wide part while inside its
+  // lumen; beyond its wall, in the pleat's lumen, on the pleat (rule 2: a fold of the same
+  // part), inside again.
+  for (double y : {0.005, 0.015, 0.0198, 0.021, 0.025, 0.035}) {
+    const SplineLocation here = tracker.nearestOnPart(m, Vec3(0.18, y, 0), on_wide, 0, candidates);
+    EXPECT_EQ(onWide(here), y < r_wide) << "y = " << y;
+    EXPECT_LT(clearance(m.colon, here), 0.0) << "y = " << y;
+  }
 }
 
 // With every segment as a candidate and nothing ambiguous (a straight colon), the tracked
