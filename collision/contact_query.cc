@@ -131,13 +131,7 @@ SplineLocation FclContactQuery::Impl::nearestOther(const std::vector<SegmentCubi
   double best = local_clearance_m;
   for (const auto& [bound, j] : order) {
     if (bound >= best) break;
-    SplineLocation at;
-    considerSegment(cubics, j, x, at);
-    const double c = clearance(colon, at);
-    if (c < best) {
-      best = c;
-      other = at;
-    }
+    considerSegmentByClearance(cubics, colon, j, x, other, best);
   }
   return other;
 }

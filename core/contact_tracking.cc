@@ -22,6 +22,17 @@ void considerSegment(const std::vector<SegmentCubic>& cubics, int j, const Vec3&
   if (d < best.d) best = {j, p, d};
 }
 
+bool considerSegmentByClearance(const std::vector<SegmentCubic>& cubics, const ColonModel& colon, int j, const Vec3& x,
+                                SplineLocation& best, double& least) {
+  SplineLocation at;
+  considerSegment(cubics, j, x, at);
+  const double c = clearance(colon, at);
+  if (!(c < least)) return false;
+  best = at;
+  least = c;
+  return true;
+}
+
 SplineLocation walkToNearest(const std::vector<SegmentCubic>& cubics, const Vec3& x, int start) {
   SplineLocation local;
   if (start < 0) return local;
@@ -55,12 +66,7 @@ SplineLocation walkToLeastClearance(const std::vector<SegmentCubic>& cubics, con
   for (int step : {-1, 1}) {
     bool moved = false;
     for (int j = best.j + step; j >= 0 && j < nseg; j += step) {
-      SplineLocation next;
-      considerSegment(cubics, j, x, next);
-      const double c = clearance(colon, next);
-      if (!(c < least)) break;
-      best = next;
-      least = c;
+      if (!considerSegmentByClearance(cubics, colon, j, x, best, least)) break;
       moved = true;
     }
     if (moved) break;
@@ -110,11 +116,7 @@ void scanWallContacts(const WorldModel& m, const std::vector<SegmentCubic>& cubi
   auto nearest = [&](const Vec3& x) {  // the least clearance (each segment at its point nearest x)
     SplineLocation best;
     double least = kInf;
-    for (int j = 0; j + 1 < m.colon.n; ++j) {
-      SplineLocation at;
-      considerSegment(cubics, j, x, at);
-      if (clearance(m.colon, at) < least) least = clearance(m.colon, at), best = at;
-    }
+    for (int j = 0; j + 1 < m.colon.n; ++j) considerSegmentByClearance(cubics, m.colon, j, x, best, least);
     return best;
   };
   for (int k = 0; k < s.scope.inside; ++k) {

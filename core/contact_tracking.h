@@ -72,6 +72,11 @@ void updateSegmentCubics(const Points& q, std::vector<SegmentCubic>& cubics);
 /// Replaces `best` by the nearest point of segment j to x when that is strictly nearer.
 void considerSegment(const std::vector<SegmentCubic>& cubics, int j, const Vec3& x, SplineLocation& best);
 
+/// Replaces `best` (of clearance `least` [m]) by the point of segment j nearest x when its
+/// clearance is strictly less; whether it did.
+bool considerSegmentByClearance(const std::vector<SegmentCubic>& cubics, const ColonModel& colon, int j, const Vec3& x,
+                                SplineLocation& best, double& least);
+
 /// The local minimum of the distance from x along the spline, walking from segment `start`
 /// (-1: none, returned as such): while the minimum sits at a segment end, the next segment
 /// is tried.

@@ -15,15 +15,8 @@ class EverySegment final : public TrackingCandidates {
                               const SplineLocation& local, double local_clearance_m) override {
     SplineLocation other;
     double least = local_clearance_m;
-    for (int j = 0; j < static_cast<int>(cubics.size()); ++j) {
-      if (std::abs(j - local.j) <= 1) continue;
-      SplineLocation at;
-      considerSegment(cubics, j, x, at);
-      if (clearance(colon, at) < least) {
-        least = clearance(colon, at);
-        other = at;
-      }
-    }
+    for (int j = 0; j < static_cast<int>(cubics.size()); ++j)
+      if (std::abs(j - local.j) > 1) considerSegmentByClearance(cubics, colon, j, x, other, least);
     return other;
   }
 };
