@@ -32,12 +32,11 @@ const nlohmann::json& golden() {
   return g;
 }
 
-// The state hash in the end line of a session file (docs/file-formats.md).
-std::string finalHash(const std::string& session) {
+// The end line of a session file (docs/file-formats.md).
+nlohmann::json endLine(const std::string& session) {
   const std::string text = test::readFile(session);
   const size_t last = text.find_last_of('\n', text.size() - 2);
-  const nlohmann::json end = nlohmann::json::parse(text.substr(last == std::string::npos ? 0 : last + 1));
-  return end.at("state_hash").get<std::string>();
+  return nlohmann::json::parse(text.substr(last == std::string::npos ? 0 : last + 1));
 }
 
 class ScenarioHash : public ::testing::TestWithParam<std::string> {};
@@ -49,7 +48,15 @@ TEST_P(ScenarioHash, FinalStateIsUnchanged) {
   const std::string file = name.rfind("extreme/", 0) == 0 ? test::asset("scenarios/" + name + ".json") : name;
   const Result r = run("run " + file + " --record " + session);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(finalHash(session), golden().at("scenario_final_state_hash").at(name).get<std::string>()) << name;
+  const nlohmann::json end = endLine(session);
+  EXPECT_EQ(end.at("state_hash").get<std::string>(), golden().at("scenario_final_state_hash").at(name).get<std::string>())
+      << name;
+  // Issue 16, for these as for the training scenarios (scenario_run_tests): the scope stays
+  // in its lumen at every step, the bench specimen included (its anal canal held).
+  const nlohmann::json& scores = end.at("summary").at("scores");
+  EXPECT_EQ(scores.at("lumen_exit_steps").get<long>(), 0) << name;
+  EXPECT_LT(scores.at("max_track_jump_m").get<double>(), 0.03) << name;
+  EXPECT_LT(scores.at("max_wall_penetration_m").get<double>(), 0.005) << name;
 }
 
 INSTANTIATE_TEST_SUITE_P(Shipped, ScenarioHash,
