@@ -167,6 +167,9 @@ ColonModel buildColonModel(const Anatomy& anatomy, const ColonParams& params,
   if (!(params.compression_stiffness_fraction > 0) || !(params.compression_stiffness_fraction <= 1))
     throw std::invalid_argument("compression_stiffness_fraction must be in (0, 1]");
   m.compression_stiffness_fraction = params.compression_stiffness_fraction;
+  if (!(params.mesentery_axial_ratio >= 0) || !(params.mesentery_axial_ratio <= 1))
+    throw std::invalid_argument("mesentery_axial_ratio must be in [0, 1]");
+  m.mesentery_axial_ratio = params.mesentery_axial_ratio;
   m.gravity_m_per_s2 = gravityForPosition(params.patient_position, params.gravity_m_per_s2);
   m.tension_law = law ? law : std::make_shared<VoigtLaw>(params.tension_EA_N, params.tension_EC_Ns);
   integrateMatrices(m);

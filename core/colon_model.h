@@ -55,6 +55,11 @@ struct ColonParams {
   /// tension element keeps when shortened (a thin-walled tube pleats under axial
   /// compression); 1 is the paper's Voigt element, as stiff shortened as stretched [-].
   double compression_stiffness_fraction = 1.0;
+  /// Lifters along the colon (not in the paper): the lifters' stiffness along the colon's
+  /// rest tangent as a fraction of their stiffness across it. A mesentery is a sheet along
+  /// the colon: it holds the colon from moving away from its root far harder than from
+  /// sliding along its own length. 1 is the paper's isotropic lifter (eq. 4) [-], in [0, 1].
+  double mesentery_axial_ratio = 1.0;
 };
 
 /// Gravity vector in the patient frame for a named position [m/s^2]; throws
@@ -93,6 +98,11 @@ struct ColonModel {
   // tension law's force at the strain c e, the rate term unchanged: F = EA c e + EC de/dt
   // for the Voigt law, continuous at e = 0. c = 1 is the paper's element.
   double compression_stiffness_fraction = 1.0;  ///< c [-], in (0, 1]
+
+  // Lifters along the colon (not in the paper): at a spline point with rest tangent t, the
+  // lifter force density is -k0 (u - (1 - a) (u . t) t) for the displacement u from rest,
+  // a the ratio below: k0 across the colon, a k0 along it. 1: the paper's lifters.
+  double mesentery_axial_ratio = 1.0;  ///< a [-], in [0, 1]
   /// The strain the tension law is evaluated at: e in tension, c e shortened.
   double lawStrain(double strain) const { return strain < 0 ? compression_stiffness_fraction * strain : strain; }
 

@@ -47,6 +47,7 @@ struct ColonState {
   /// blends and rest points [m], constant for a model; filled with constant_system.
   std::vector<Blend> gauss_blend;
   std::vector<Vec3> gauss_rest_m;
+  std::vector<Vec3> gauss_rest_tangent;  ///< unit rest tangent at each node (lifters along the colon)
 };
 
 /// A state at rest in the model's rest configuration, with scratch sized for the model

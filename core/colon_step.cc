@@ -65,10 +65,13 @@ void buildConstantSystem(const ColonModel& m, ColonState& s, double dt) {
   s.constant_system_dt_s = dt;
   s.gauss_blend.clear();
   s.gauss_rest_m.clear();
+  s.gauss_rest_tangent.clear();
   for (int j = 0; j + 1 < m.n; ++j)
     for (int g = 0; g < Gauss4::kCount; ++g) {
       s.gauss_blend.push_back(blend(m.n, j, Gauss4::node[g], 0));
       s.gauss_rest_m.push_back(apply(s.gauss_blend.back(), m.q_rest));
+      const Vec3 tangent = apply(blend(m.n, j, Gauss4::node[g], 1), m.q_rest);
+      s.gauss_rest_tangent.push_back(tangent.norm() > 0 ? Vec3(tangent.normalized()) : Vec3::Zero());
     }
 }
 
@@ -187,6 +190,30 @@ void addLifterStiffening(const ColonModel& m, ColonState& s, double dt) {
   }
 }
 
+// Lifters along the colon (ColonModel::mesentery_axial_ratio a < 1): the part of eq. 4's
+// isotropic lifter along the rest tangent t taken back, (1 - a) k0 (u . t) t, by the same
+// 4-point Gauss quadrature (exact for the cubic blends' products), each node's force spread
+// like a load with its (negative) stiffness -(1 - a) k0 t t^T; the sum with eq. 4's K stays
+// positive semi-definite. The lifters' damping (eq. 5) stays isotropic.
+void addLifterAxialRelief(const ColonModel& m, ColonState& s, double dt) {
+  const double relief = 1.0 - m.mesentery_axial_ratio;
+  for (int j = 0; j + 1 < m.n; ++j) {
+    const double k0 = m.segment_k_N_per_m2(j);
+    if (!(k0 > 0)) continue;
+    for (int g = 0; g < Gauss4::kCount; ++g) {
+      const int node = j * Gauss4::kCount + g;
+      const Blend& b = s.gauss_blend[node];
+      const Vec3& t = s.gauss_rest_tangent[node];
+      const double kw = relief * k0 * Gauss4::weight[g] * m.segment_length_m(j);  // [N/m]
+      const Vec3 u = apply(b, s.q) - s.gauss_rest_m[node];
+      const Vec3 fd = kw * u.dot(t) * t;         // [N]
+      const Mat3 T = -kw * (t * t.transpose());  // [N/m]
+      const Vec3 Tv = T * apply(b, s.v);
+      spreadPointLoad(b, fd, Tv, dt * dt * T, dt, s.force.data(), s.rhs.data(), s.system);
+    }
+  }
+}
+
 // Bending of the colon wall (colon_bending, colon_extensions.h) at interior control points.
 void addWallBending(const ColonModel& m, ColonState& s, double dt) {
   const int n = m.n;
@@ -284,6 +311,7 @@ void stepColon(const ColonModel& m, ColonState& s, double dt) {
   addMesentery(m, s, dt);
   addTensionElements(m, s, dt);
   if (m.mesentery_stiffening_per_m2 > 0) addLifterStiffening(m, s, dt);
+  if (m.mesentery_axial_ratio < 1) addLifterAxialRelief(m, s, dt);
   if (m.bending_EI_Nm2 > 0) addWallBending(m, s, dt);
   addSplineLoads(m, s, dt);
   // Solve. Limit: the colon stops for this step rather than carry NaN on.
@@ -319,6 +347,18 @@ ColonEnergy colonEnergy(const ColonModel& m, const ColonState& s) {
         const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
         en.mesentery_J += Gauss4::weight[g] * m.segment_length_m(j) *
                           lifterStiffeningEnergyDensity(u, m.segment_k_N_per_m2(j), m.mesentery_stiffening_per_m2);
+      }
+  }
+  if (m.mesentery_axial_ratio < 1) {
+    for (int j = 0; j + 1 < m.n; ++j)
+      for (int g = 0; g < Gauss4::kCount; ++g) {
+        const Blend b = blend(m.n, j, Gauss4::node[g], 0);
+        const Vec3 u = apply(b, s.q) - apply(b, m.q_rest);
+        Vec3 t = apply(blend(m.n, j, Gauss4::node[g], 1), m.q_rest);
+        if (t.norm() > 0) t.normalize();
+        const double ut = u.dot(t);
+        en.mesentery_J -= 0.5 * (1.0 - m.mesentery_axial_ratio) * m.segment_k_N_per_m2(j) * Gauss4::weight[g] *
+                          m.segment_length_m(j) * ut * ut;
       }
   }
   if (m.bending_EI_Nm2 > 0) {

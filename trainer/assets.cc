@@ -84,6 +84,9 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   // Optional (files written before it: the paper's element, 1).
   if (colon.has("compression_stiffness_fraction"))
     c.compression_stiffness_fraction = colon.quantity("compression_stiffness_fraction", "1", 1e-3, 1.0);
+  // Optional (files written before it: the paper's isotropic lifters, 1).
+  if (colon.has("mesentery_axial_ratio"))
+    c.mesentery_axial_ratio = colon.quantity("mesentery_axial_ratio", "1", 0.0, 1.0);
   // An identified tension law (optional; trainer/tension_law_file.h): its EA and EC must be
   // the ones above, so that the file states one axial stiffness.
   if (colon.has("tension_law")) {

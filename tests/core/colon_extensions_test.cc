@@ -235,6 +235,45 @@ TEST(ColonCompression, DefaultIsThePaperElementASofterOneMovesOtherwiseAndOutOfR
   }
 }
 
+// Lifters along the colon (ColonModel::mesentery_axial_ratio a): a straight colon shifted
+// bodily along its axis by d feels -a k0 d L, shifted across it -k0 d L (no stretch, no
+// bend: only the lifters act), and the energy is the matching quadratic.
+TEST(MesenteryAxialRatio, AStraightColonSlidingAlongItselfFeelsAK0AndMovedAcrossK0) {
+  const double k0 = 1000, a = 0.1;
+  ColonModel m = chain(straight(11), k0, 0, Vec3::Zero());
+  m.mesentery_axial_ratio = a;
+  const double L = m.length_m();
+  for (const Vec3& shift : {Vec3(0.02, 0, 0), Vec3(0, 0.02, -0.01), Vec3(0.01, 0.01, 0)}) {
+    ColonState s = makeColonState(m);
+    for (int i = 0; i < m.n; ++i) s.q.col(i) += shift;
+    stepColon(m, s, 1e-9);  // a negligible step: the forces of the shifted state
+    Vec3 total = Vec3::Zero();
+    for (int i = 0; i < m.n; ++i) total += s.force.segment<3>(3 * i);
+    const Vec3 along(shift.x(), 0, 0), across(0, shift.y(), shift.z());
+    const Vec3 want = -k0 * L * (a * along + across);
+    EXPECT_LT((total - want).norm(), 1e-9 * want.norm()) << shift.transpose();
+    const double energy_J = 0.5 * k0 * L * (a * along.squaredNorm() + across.squaredNorm());
+    EXPECT_NEAR(colonEnergy(m, s).mesentery_J, energy_J, 1e-9 * energy_J) << shift.transpose();
+  }
+}
+
+TEST(MesenteryAxialRatio, EnergyNeverIncreasesWithDampingEvenWithNoAxialLifter) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  p.colon.mesentery_axial_ratio = 0.0;
+  test::expectEnergyNeverIncreases(buildColonModel(loadAnatomy(test::asset("anatomy/adult.json")), p.colon), 3000,
+                                   kDt, 11, 0.5);
+}
+
+TEST(MesenteryAxialRatio, DefaultIsThePapersIsotropicLifterAndOutOfRangeIsRefused) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  EXPECT_EQ(p.colon.mesentery_axial_ratio, 1.0);  // the key is optional: absent, the paper's lifters
+  const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
+  for (double bad : {-0.1, 1.5, std::nan("")}) {
+    p.colon.mesentery_axial_ratio = bad;
+    EXPECT_THROW(buildColonModel(a, p.colon), std::invalid_argument) << bad;
+  }
+}
+
 ColonModel adultWithBending(double EI, double beta) {
   Parameters p = loadParameters(test::asset("params/default.json"));
   p.colon.bending_EI_Nm2 = EI;
