@@ -2,6 +2,7 @@
 // mechanical energy never increases, step after step; and a chain held by end loads.
 #pragma once
 
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -42,6 +43,22 @@ inline void stepUnderEndLoads(const ColonModel& m, ColonState& s, double pull_N,
     b.segment = m.n - 2, b.p = 1.0, b.force_N = Vec3(pull_N, 0, 0);
     s.loads.push_back(a);
     s.loads.push_back(b);
+    stepColon(m, s, dt_s);
+  }
+}
+
+/// Steps the colon `steps` times at dt_s [s] with one load on segment 30 (p 0.25): 200 N/m
+/// stiff, its force swinging sideways as 0.5 sin(k / 100) N and 0.2 N up. The scripted
+/// run the colon's bit-identity tests repeat.
+inline void stepUnderASwingingLoad(const ColonModel& m, ColonState& s, int steps, double dt_s) {
+  for (int k = 0; k < steps; ++k) {
+    s.loads.clear();
+    SplineLoad l;
+    l.segment = 30;
+    l.p = 0.25;
+    l.force_N = Vec3(0.5 * std::sin(k * 1e-2), 0, 0.2);
+    l.stiffness_N_per_m = 200 * Mat3::Identity();
+    s.loads.push_back(l);
     stepColon(m, s, dt_s);
   }
 }

@@ -113,16 +113,7 @@ TEST(ColonStep, SameInputsGiveBitIdenticalStates) {
   auto run = [&] {
     ColonState s = makeColonState(m);
     s.v.col(40) = Vec3(0.3, -0.2, 0.1);
-    for (int k = 0; k < 3000; ++k) {
-      s.loads.clear();
-      SplineLoad l;
-      l.segment = 30;
-      l.p = 0.25;
-      l.force_N = Vec3(0.5 * std::sin(k * 1e-2), 0, 0.2);
-      l.stiffness_N_per_m = 200 * Mat3::Identity();
-      s.loads.push_back(l);
-      stepColon(m, s, kDt);
-    }
+    test::stepUnderASwingingLoad(m, s, 3000, kDt);
     return s;
   };
   const ColonState a = run(), b = run();
