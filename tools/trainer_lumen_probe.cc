@@ -6,14 +6,21 @@
 // centre, its tracked colon segment and parameter, the distance to the tracked centreline
 // point against the lumen radius there, and where the paper's nearest point would be: the
 // slices out of their lumen or tracked off the nearest point, every slice with ALL_SLICES=1.
+// FRESH=1 runs the whole scenario and ends with the run's measure (the step's start tracks
+// against its end positions, as `colosim run` counts) next to the same measure on fresh
+// tracks (the end state copied and its contacts found again, as the next step will): where
+// the scope slides along a taper, the first can count a slice that a fresh track finds inside.
+#include <algorithm>
 #include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "core/lumen_check.h"
 #include "core/spline.h"
+#include "collision/contact_query.h"
 #include "trainer/scenario.h"
 #include "trainer/world_simulation.h"
 
@@ -31,10 +38,27 @@ int main(int argc, char** argv) {
   std::vector<double> arc;
   int reports = 0;
   const long steps = std::lround(sc.duration_s / sim.dt_s());
-  for (long k = 0; k < steps && reports < max_reports; ++k) {
+  const bool fresh = std::getenv("FRESH") != nullptr;
+  std::unique_ptr<ContactQuery> query = fresh ? makeContactQuery(m, "fcl") : nullptr;
+  LumenCheck worst[2];  // the run's measure, on fresh tracks
+  long exits[2] = {0, 0};
+  for (long k = 0; k < steps && (fresh || reports < max_reports); ++k) {
     sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
     const WorldState& s = sim.state();
     const LumenCheck c = checkLumen(m, s, arc);
+    if (fresh) {
+      WorldState again = s;
+      query->findWallContacts(m, again);
+      const LumenCheck f = checkLumen(m, again, arc);
+      int i = 0;
+      for (const LumenCheck* x : {&c, &f}) {
+        exits[i] += x->lumen_exit ? 1 : 0;
+        worst[i].track_jump_m = std::max(worst[i].track_jump_m, x->track_jump_m);
+        worst[i].wall_penetration_m = std::max(worst[i].wall_penetration_m, x->wall_penetration_m);
+        ++i;
+      }
+    }
+    if (reports >= max_reports) continue;
     if (!c.lumen_exit && c.track_jump_m < 0.03 && c.wall_penetration_m < 0.005) continue;
     if (std::getenv("FROM_S") && sim.time_s() < std::atof(std::getenv("FROM_S"))) continue;  // reports from this time [s]
     const bool all = std::getenv("ALL_SLICES") != nullptr;
@@ -69,5 +93,10 @@ int main(int argc, char** argv) {
                     d > m.colon.radiusAt(t.colon_segment, t.p) ? "OUT " : "    ", near.segment, near.p, near.distance);
       }
   }
+  if (fresh)
+    for (int i = 0; i < 2; ++i)
+      std::printf("%s: lumen exit steps %ld, largest jump %.4f m, deepest point %.4f m\n",
+                  i == 0 ? "run's measure (start tracks)" : "fresh tracks (end state)  ", exits[i],
+                  worst[i].track_jump_m, worst[i].wall_penetration_m);
   return 0;
 }
