@@ -30,6 +30,11 @@ struct ContactParams {
   /// k_wall). 0: the paper's linear wall at any depth.
   double wall_thickness_m = 0.003;
   double wall_backing_stiffness_N_per_m = 30000;  ///< [N/m]
+  /// Threading contacts (core/colon_threading.h): the stiffness holding a colon control
+  /// point around the scope where the scope's surface lies beyond the wall's thickness
+  /// there, per control point [N/m]. 0: none (the paper's model: the wall is sampled at the
+  /// scope's interaction points only).
+  double threading_stiffness_N_per_m = 0;
   double friction_coefficient = 0.1;      ///< Coulomb mu between scope and mucosa [-] (0: the paper's model)
   double friction_velocity_m_per_s = 0.002; ///< regularisation: full friction above ~this sliding speed [m/s]
   double self_stiffness_N_per_m = 300;    ///< colon self-contact stiffness per sphere pair [N/m]

@@ -7,6 +7,7 @@
 #include "core/rotation.h"
 
 #include "core/colon_step.h"
+#include "core/colon_threading.h"
 #include "core/scope_step.h"
 #include "core/step_lanes.h"
 
@@ -92,6 +93,7 @@ WorldState makeWorldState(const WorldModel& m) {
   s.slice_track.assign(static_cast<size_t>(m.scope.segment_count) * m.scope.params.slices_per_segment, WallTrack());
   s.wall.reserve(points);
   s.self.reserve(16 * m.colon.n);
+  s.threading.reserve(4 * static_cast<size_t>(m.colon.n));
   s.colon_start.q = s.colon.q;
   s.colon_start.v = s.colon.v;
   s.colon_start.tension_internal = s.colon.tension_internal;
@@ -112,6 +114,7 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
   s.scope.loads.clear();
   s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall,
                                          s.colon.loads, s.scope.loads, &s.contact_limit);
+  applyThreadingContacts(m, s);
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
   for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
   setLensWall(m, s);

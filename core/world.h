@@ -34,6 +34,8 @@ struct WorldState {
   ScopeState scope;
   std::vector<WallContact> wall;   ///< wall contacts found at the start of the last step
   std::vector<SelfContact> self;   ///< colon self-contacts found at the start of the last step
+  /// Threading contacts found at the start of the last step (core/colon_threading.h).
+  std::vector<WallContact> threading;
   /// Per interaction point: its spline location in the last step (core/contact_tracking.h),
   /// segment-major (k * P + i, P = interaction_points_S.size()), then the tip face's points
   /// (K * P + f).
@@ -76,7 +78,8 @@ class ContactQuery {
   virtual void findSelfContacts(const WorldModel& model, WorldState& state) = 0;
 };
 
-/// One step of the world, dt_s [s]: contacts (query), contact forces, abdominal pressure
+/// One step of the world, dt_s [s]: contacts (query, then the threading contacts of its
+/// tracks), contact forces, abdominal pressure
 /// (state.support), the lens guard's wall (ScopeState::lens_wall), colon step, scope step;
 /// when the guard engaged (ScopeState::lens_impulse_Ns > 0), the colon is stepped again
 /// from its start with the guard's reaction added to its loads. With lanes

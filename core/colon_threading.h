@@ -1,0 +1,43 @@
+// The colon held around the scope between the scope's slices (issue 16).
+//
+// The wall contacts of eq. 7 sample the wall at the scope's interaction points, one ring
+// per slice (1.5 cm apart). Between two slices the colon is held only through them. A
+// sigmoid gathered onto the scope (1.7 m of colon per m of scope in a 1 m/s withdrawal
+// with the tip slammed up) has control points that no slice is at, and a chain with no
+// bending stiffness buckles sideways there: the bulge grows into a loop whose two ends lie
+// on adjacent slices, and the scope runs straight through its neck, out of the rectum and
+// into the sigmoid beside it (variants of extreme_all: 0.36 m track jumps, 177-219 steps
+// out of the lumen; docs/hardening.md).
+//
+// Threading contacts sample the same wall at the colon's own control points. Every
+// control point i whose place along the colon lies between the tracks of two consecutive
+// slices (anus to tip) has the scope's axis there, taken as the chord between the two slice
+// centres. Where the scope's surface lies beyond the wall's thickness at that cross-section
+//   depth = |y - q_i| - (r_i - r_scope + wall_thickness) > 0,
+// y the chord's point nearest q_i, what lies behind the wall pushes back:
+// ContactParams::threading_stiffness_N_per_m per metre of depth (and the wall's damping and
+// friction), on the scope at y and on the colon at q_i, opposite. Where the scope is
+// inside the lumen nothing is found; pressed into the wall between two slices, a control
+// point takes up to a newton or so (sigmoid_untwist: at most 0.5 mm deep).
+#pragma once
+
+#include <vector>
+
+#include "core/world.h"
+
+namespace colosim {
+
+/// Appends to `out` the threading contacts of the state's slice tracks (see above): each a
+/// WallContact at y on the scope segment of the nearer slice (`point` 0: a slice's
+/// scaling), located at control point i (segment i, p = 0), with its normal from q_i
+/// towards y and its depth [m]. Control points 1 .. n - 2 only.
+void findThreadingContacts(const WorldModel& model, const WorldState& state, std::vector<WallContact>& out);
+
+/// When ContactParams::threading_stiffness_N_per_m > 0: finds the threading contacts into
+/// state.threading and appends their loads to state.colon.loads and state.scope.loads
+/// (eq. 7 with the threading stiffness, no backing; the wall's damping, friction and force
+/// limit), counting them into state.max_wall_force_N and state.contact_limit. Otherwise
+/// clears state.threading.
+void applyThreadingContacts(const WorldModel& model, WorldState& state);
+
+}  // namespace colosim
