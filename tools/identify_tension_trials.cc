@@ -84,6 +84,7 @@ struct Outcome {
   std::vector<std::pair<std::string, double>> param_error;  // relative errors (--forms own, named right)
   nlohmann::json bench;  // what the bench drew that bears on the parameters' accuracy
   std::string forms;     // the hidden forms (TrialSpec::formNames)
+  nlohmann::json fitted = nlohmann::json::object();  // the named law's parameters (name -> value)
 };
 
 // The law parameters of the truth that the fitted law shares. Own forms: all of them.
@@ -170,6 +171,7 @@ int main(int argc, char** argv) {
     o.named = classOf(r.effects, cls);
     o.gain = r.heldout_rmse_ratio;
     o.unexplained = r.unexplained;
+    for (const ParamEstimate& p : r.extended.params) o.fitted[p.name] = p.value;
     if (o.named == o.hidden) {
       // Two fitted relaxation branches are compared in the order of their time constants.
       std::vector<ParamEstimate> fitted = r.extended.params;
@@ -293,7 +295,8 @@ int main(int argc, char** argv) {
   for (const Outcome& o : out)
     cases.push_back({{"hidden", labels[o.hidden]}, {"seed", o.seed}, {"named", o.effects},
                      {"heldout_rmse_ratio", o.gain}, {"unexplained", o.unexplained}, {"rows", o.rows},
-                     {"bench", o.bench}, {"param_error", nlohmann::json(o.param_error)}, {"evidence", o.evidence}});
+                     {"bench", o.bench}, {"param_error", nlohmann::json(o.param_error)}, {"fitted", o.fitted},
+                     {"evidence", o.evidence}});
   j["cases"] = cases;
   j["timing"] = {{"median_s", seconds[seconds.size() / 2]}, {"max_s", seconds.back()}};
 
