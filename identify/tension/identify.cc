@@ -692,7 +692,8 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
 
   // Round 1: each effect alone. Relaxation is fitted with one Maxwell branch, then with a
   // second started from the first (tau split fivefold either way); the second branch is
-  // kept when it pays for itself against the first by the selection rule. The candidates
+  // kept when it pays for itself against the first by the selection rule and the two are
+  // resolved (branchesResolved). The candidates
   // are independent fits: two threads (this machine has two cores).
   const std::vector<std::string>& names = tensionEffectNames();
   std::vector<Fit> singles(n_effects);
