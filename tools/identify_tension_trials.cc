@@ -1,15 +1,17 @@
 // Hidden-effect trials of the tension identification (issue 17, docs/identification-trials.md):
 //
-//   identify_tension_trials [--seeds N] [--first-seed S] [--threads T] [--forms other|own]
-//                           [--json] [--report DIR]
+//   identify_tension_trials [--seeds N] [--first-seed S] [--threads T]
+//                           [--forms other|own|harder] [--json] [--report DIR]
 //
 // For each class (no effect, each single effect, every pair: 11 classes) and each of N seeds
 // it draws a test from the independent bench of identify/tension/trial_bench.h (other forms
 // of the effects than colosim's laws by default; --forms own hides colosim's own forms, where
-// the fitted parameters can be compared with the truth), runs identifyTension on it and
+// the fitted parameters can be compared with the truth; --forms harder hides forms that no
+// law of colosim has, one of two per effect drawn per seed), runs identifyTension on it and
 // counts what was named. Prints the confusion table (rows: hidden, columns: named), the
 // targets of issue 17 (singles named right, both of a pair named, nothing named on no
-// effect), the parameter errors with --forms own, and the time per case. --json prints one
+// effect), the parameter errors where the forms coincide, with --forms harder the cases named
+// right by hidden form, and the time per case. --json prints one
 // object instead; --report DIR writes confusion.png (gnuplot) with its data and the text.
 // Cases run on T threads (default 2), each identification on one: the output does not
 // depend on T (timing aside).
@@ -81,13 +83,25 @@ struct Outcome {
   nlohmann::json evidence = nlohmann::json::array();  // the selection's candidates
   std::vector<std::pair<std::string, double>> param_error;  // relative errors (--forms own, named right)
   nlohmann::json bench;  // what the bench drew that bears on the parameters' accuracy
+  std::string forms;     // the hidden forms (TrialSpec::formNames)
+  nlohmann::json fitted = nlohmann::json::object();  // the named law's parameters (name -> value)
 };
 
 // The law parameters of the truth that the fitted law shares. Own forms: all of them.
 // Other forms: those whose forms coincide: the set with a yield strain, the two relaxation
 // branches (ordered by time constant), and EA (the tangent at zero strain) unless the
 // stiffening curve differs.
+// Harder forms: EA only (the tangent at zero strain of the virgin curve), unless the
+// stiffening curve or the relaxation function differs from the law's (the fitted EA is then
+// the law's own compromise); no effect's form coincides.
 std::vector<std::pair<std::string, double>> truthParams(const TrialSpec& s) {
+  if (s.forms == TrialForms::kHarder) {
+    const auto& e = s.effects;
+    if (std::find(e.begin(), e.end(), "strain_stiffening") != e.end() ||
+        std::find(e.begin(), e.end(), "stress_relaxation") != e.end())
+      return {};
+    return {{"EA_N", s.ea_N}};
+  }
   if (s.forms == TrialForms::kOther) {
     std::vector<std::pair<std::string, double>> p;
     const auto& e = s.effects;
@@ -121,12 +135,16 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", seeds, "seeds per class")->check(CLI::Range(1, 100000));
   app.add_option("--first-seed", first_seed, "first seed (seeds first-seed ... first-seed + N - 1)");
   app.add_option("--threads", threads, "cases run at once")->check(CLI::Range(1, 64));
-  app.add_option("--forms", forms_name, "forms of the hidden effects: other (not colosim's laws) or own")
-      ->check(CLI::IsMember({"other", "own"}));
+  app.add_option("--forms", forms_name,
+                 "forms of the hidden effects: other (the first forms not colosim's laws), own, or harder "
+                 "(forms no law of colosim has, drawn per seed)")
+      ->check(CLI::IsMember({"other", "own", "harder"}));
   app.add_flag("--json", json, "print one JSON object");
   app.add_option("--report", report, "write confusion.png, its data and the text into this folder");
   CLI11_PARSE(app, argc, argv);
-  const TrialForms forms = forms_name == "own" ? TrialForms::kOwn : TrialForms::kOther;
+  const TrialForms forms = forms_name == "own"      ? TrialForms::kOwn
+                           : forms_name == "harder" ? TrialForms::kHarder
+                                                    : TrialForms::kOther;
 
   const std::vector<std::vector<std::string>> cls = classes();
   const size_t nc = cls.size();
@@ -143,6 +161,8 @@ int main(int argc, char** argv) {
     o.bench = {{"protocol", spec.protocol}, {"actuator_tau_s", spec.actuator_tau_s},
                {"sample_rate_hz", spec.sample_rate_hz}, {"white_sd_N", spec.white_sd_N},
                {"coloured_sd_N", spec.coloured_sd_N}, {"max_strain", spec.max_strain}, {"ea_N", spec.ea_N}};
+    o.forms = spec.formNames();
+    if (forms == TrialForms::kHarder) o.bench["forms"] = o.forms;
     const auto t0 = std::chrono::steady_clock::now();
     const IdentifyResult r = identifyTension(test, opt);
     o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -151,6 +171,7 @@ int main(int argc, char** argv) {
     o.named = classOf(r.effects, cls);
     o.gain = r.heldout_rmse_ratio;
     o.unexplained = r.unexplained;
+    for (const ParamEstimate& p : r.extended.params) o.fitted[p.name] = p.value;
     if (o.named == o.hidden) {
       // Two fitted relaxation branches are compared in the order of their time constants.
       std::vector<ParamEstimate> fitted = r.extended.params;
@@ -238,6 +259,24 @@ int main(int argc, char** argv) {
     }
   }
 
+  // Harder forms: the cases named right for each hidden class and form.
+  nlohmann::json by_form = nlohmann::json::object();
+  if (forms == TrialForms::kHarder) {
+    std::map<std::pair<int, std::string>, std::pair<int, int>> count;  // (class, forms) -> right, cases
+    for (const Outcome& o : out) {
+      auto& c = count[{o.hidden, o.forms}];
+      c.first += o.named == o.hidden, ++c.second;
+    }
+    text += "Named right by hidden form\n";
+    for (const auto& [key, c] : count) {
+      if (cls[key.first].empty()) continue;
+      std::snprintf(line, sizeof line, "  %-11s %-40s %4d / %d\n", label(cls[key.first]).c_str(), key.second.c_str(),
+                    c.first, c.second);
+      text += line;
+      by_form[label(cls[key.first]) + " " + key.second] = {c.first, c.second};
+    }
+  }
+
   nlohmann::json j;
   std::vector<std::string> labels;
   for (const auto& c : cls) labels.push_back(label(c));
@@ -251,11 +290,13 @@ int main(int argc, char** argv) {
   j["none_nothing_named"] = {none_nothing, none};
   j["named_with_gain_at_most_1"] = weak_named;
   j["parameter_errors"] = perr;
+  if (forms == TrialForms::kHarder) j["named_right_by_form"] = by_form;
   nlohmann::json cases = nlohmann::json::array();
   for (const Outcome& o : out)
     cases.push_back({{"hidden", labels[o.hidden]}, {"seed", o.seed}, {"named", o.effects},
                      {"heldout_rmse_ratio", o.gain}, {"unexplained", o.unexplained}, {"rows", o.rows},
-                     {"bench", o.bench}, {"param_error", nlohmann::json(o.param_error)}, {"evidence", o.evidence}});
+                     {"bench", o.bench}, {"param_error", nlohmann::json(o.param_error)}, {"fitted", o.fitted},
+                     {"evidence", o.evidence}});
   j["cases"] = cases;
   j["timing"] = {{"median_s", seconds[seconds.size() / 2]}, {"max_s", seconds.back()}};
 

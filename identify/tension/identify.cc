@@ -433,6 +433,21 @@ std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& cur
   return s;
 }
 
+// The fitted `current` with `effect` added at the value that switches it off (Fung b, the
+// relaxation weights, the softening's d_inf and the set ratio at 0): the same law, so a fit
+// started there ends no worse than `current`.
+std::vector<double> switchedOff(const Data& d, const FittedModel& current, const std::string& effect,
+                                bool two_relax) {
+  std::vector<std::string> effects = current.effects;
+  effects.push_back(effect);
+  const std::vector<ParamDef> defs = layout(d, effects, two_relax);
+  if (effect == "strain_stiffening") return thetaFrom(defs, current, {{"fung_b", 0.0}});
+  if (effect == "stress_relaxation")
+    return thetaFrom(defs, current, {{"relax_g1", 0.0}, {"relax_tau1_s", 3.0}, {"relax_g2", 0.0}, {"relax_tau2_s", 30.0}});
+  if (effect == "cyclic_softening") return thetaFrom(defs, current, {{"soften_d_inf", 0.0}});
+  return thetaFrom(defs, current, {{"set_ratio", 0.0}, {"set_yield_strain", 0.0}});
+}
+
 // The toe of the reloadings: rows loading again (after the first loading) at strains up to
 // 30 % of the largest strain reached before, where a permanent set moves the strain at
 // which force starts.
@@ -456,9 +471,42 @@ double maskedRmse(const Data& d, const std::vector<bool>& mask, const FittedMode
   return count ? std::sqrt(s / count) : 0.0;
 }
 
+// Two fitted Maxwell branches are resolved when they are two: their times apart by at least
+// kBranchTimeRatio, the longer within the test (a longer time acts as elasticity over the
+// test), and each branch at least kBranchWeightShare of their summed weight. Calibrated on
+// own-form trials (seeds 10001-10030, one branch hidden): the second branch that paid there
+// had times 1.0-1.3 apart (the branches are one, g split between them), a weight of
+// 0.000-0.013 beside 0.28-0.44, or a time at the bound of 1e4 s; hidden two-branch data
+// (--forms other) have times 7.5-120 apart and shares of at least 0.25.
+constexpr double kBranchTimeRatio = 3.0;
+constexpr double kBranchWeightShare = 0.1;
+
+bool branchesResolved(const ExtendedLawParams& law, double duration_s) {
+  const double lo = std::min(law.relax_tau1_s, law.relax_tau2_s), hi = std::max(law.relax_tau1_s, law.relax_tau2_s);
+  const double g = law.relax_g1 + law.relax_g2;
+  return hi >= kBranchTimeRatio * lo && hi <= duration_s &&
+         std::min(law.relax_g1, law.relax_g2) >= kBranchWeightShare * g;
+}
+
+// Two unresolved Maxwell branches are one: a fit with two is fitted again with one branch,
+// started from it (the weights summed, the time of the heavier branch).
+Fit mergedBranches(const Data& d, const std::vector<int>& fold, const IdentifyOptions& o, const Fit& two) {
+  const ExtendedLawParams& l = two.model.law;
+  const std::vector<std::string>& e = two.model.effects;
+  const double g_sum = std::min(0.95, l.relax_g1 + l.relax_g2);
+  const double tau_heavy = l.relax_g1 >= l.relax_g2 ? l.relax_tau1_s : l.relax_tau2_s;
+  return fitModel(d, e, {thetaFrom(layout(d, e), two.model, {{"relax_g1", g_sum}, {"relax_tau1_s", tau_heavy}})},
+                  fold, o.folds);
+}
+
+double duration(const Data& d) { return d.test->time_s.back() - d.test->time_s.front(); }
+
 // Relaxation with a second Maxwell branch: a fit with relaxation and one branch is fitted
 // again with two, started from the first (its g split in half, tau split fivefold either
-// way); the second branch is kept when it pays for itself by the selection rule.
+// way); the second branch is kept when it pays for itself by the selection rule and the two
+// branches are resolved. Unresolved, the two-branch fit may still have found a better
+// optimum for the other parameters: one branch is fitted again from it and kept when it
+// fits better than the first.
 void secondBranch(const Data& d, const std::vector<int>& fold, const IdentifyOptions& o, Fit* fit) {
   const FittedModel& one = fit->model;
   const std::vector<std::string>& e = one.effects;
@@ -469,8 +517,14 @@ void secondBranch(const Data& d, const std::vector<int>& fold, const IdentifyOpt
                      {thetaFrom(defs, one, {{"relax_g1", 0.5 * g}, {"relax_tau1_s", tau / 5},
                                             {"relax_g2", 0.5 * g}, {"relax_tau2_s", 5 * tau}})},
                      fold, o.folds, true);
-  if (candidatePays(one.heldout_rmse_N / std::max(two.model.heldout_rmse_N, 1e-300), two.model.bic - one.bic, o))
+  if (!candidatePays(one.heldout_rmse_N / std::max(two.model.heldout_rmse_N, 1e-300), two.model.bic - one.bic, o))
+    return;
+  if (branchesResolved(two.model.law, duration(d))) {
     *fit = std::move(two);
+    return;
+  }
+  Fit merged = mergedBranches(d, fold, o, two);
+  if (merged.model.rmse_N < one.rmse_N) *fit = std::move(merged);
 }
 
 }  // namespace
@@ -638,7 +692,8 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
 
   // Round 1: each effect alone. Relaxation is fitted with one Maxwell branch, then with a
   // second started from the first (tau split fivefold either way); the second branch is
-  // kept when it pays for itself against the first by the selection rule. The candidates
+  // kept when it pays for itself against the first by the selection rule and the two are
+  // resolved (branchesResolved). The candidates
   // are independent fits: two threads (this machine has two cores).
   const std::vector<std::string>& names = tensionEffectNames();
   std::vector<Fit> singles(n_effects);
@@ -673,8 +728,13 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     runInParallel(pairs.size(), o.threads, [&](size_t i) {
       const auto [a, b] = pairs[i];
       // The parameter layout does not depend on the order of the effects.
+      // A third start: the better single with the other effect switched off, the single fit
+      // itself, so that a pair never ends worse than the model it contains (from the two
+      // starts above alone, 10 % of the pairs containing the first effect fitted worse than it
+      // on hidden-effect trials, dBIC > 20).
       const std::vector<std::vector<double>> starts = {startsFor(w, singles[a].model, names[b], two_relax).front(),
-                                                       startsFor(w, singles[b].model, names[a], two_relax).front()};
+                                                       startsFor(w, singles[b].model, names[a], two_relax).front(),
+                                                       switchedOff(w, singles[a].model, names[b], two_relax)};
       cands[i] = fitModel(w, {names[a], names[b]}, starts, wr.fold, o.folds, two_relax);
       fitted();
     });
@@ -706,7 +766,10 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       r.effects = {names[pairs[best].first], names[pairs[best].second]};
       // The pairs took the relaxation form of the single fit, decided without the other
       // effect (whose misfit can hide the second branch): the chosen pair tries it again.
+      // A pair that took two branches from the single fit keeps them only when they are
+      // still resolved with its other effect (which can take over what the second branch did).
       if (!current.two_relax) secondBranch(w, wr.fold, o, &current);
+      else if (!branchesResolved(current.model.law, duration(w))) current = mergedBranches(w, wr.fold, o, current);
     }
   }
 

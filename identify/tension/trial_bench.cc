@@ -70,12 +70,30 @@ Knots protocol(const TrialSpec& s, std::mt19937_64& rng) {
   return k;
 }
 
+// Elastic curve of the harder stiffening forms per unit EA: Fe(x) / EA for x > 0 [-].
+double harderStiffShape(const TrialSpec& s, double x) {
+  if (s.stiff_form == "power") return x * (1 + s.power_c * std::pow(x, s.power_p));
+  // Toe and linear region: tangent 1 up to x_t, rising linearly to R over the width w, R beyond.
+  const double xt = s.toe_strain, w = s.toe_width, r = s.linear_ratio;
+  if (x <= xt) return x;
+  if (x <= xt + w) return x + (r - 1) * (x - xt) * (x - xt) / (2 * w);
+  return xt + w + (r - 1) * w / 2 + r * (x - xt - w);
+}
+
 // The hidden law along a strain history on a uniform grid of step h [s] (force [N]).
 struct HiddenLaw {
   const TrialSpec& s;
   double e_prev = 0, e_max = 0, acc = 0, fs_prev = 0, h1 = 0, h2 = 0;
+  // Harder forms: the damage and the set as state, the Maxwell branch forces.
+  double d_state = 0, ep_state = 0;
+  std::vector<double> hb = std::vector<double>(s.prony_g.size(), 0.0);
 
   double elastic(double e) const {
+    if (s.forms == TrialForms::kHarder) {
+      const double x = e - ep_state;
+      const double fe = x > 0 && has(s, "strain_stiffening") ? s.ea_N * harderStiffShape(s, x) : s.ea_N * x;
+      return (1 - d_state) * fe;
+    }
     double ep = 0;
     if (has(s, "permanent_set"))
       ep = s.forms == TrialForms::kOwn ? s.set_ratio * e_max : s.set_ratio * std::max(0.0, e_max - s.set_yield_strain);
@@ -90,13 +108,51 @@ struct HiddenLaw {
     return (1 - d) * fe;
   }
 
+  // The harder forms' damage and set move to strain e (rate edot [1/s]) over a step of h [s];
+  // e_prev is the strain before the step; e_max, acc and de_load (the loading strain of the
+  // step) include it.
+  void advanceHarder(double e, double edot, double h, double de_load) {
+    // At rest: the strain is not rising (below 1e-3 1/s; an actuator settling into a hold
+    // creeps on for ever).
+    const bool rest = edot <= 1e-3;
+    if (has(s, "cyclic_softening")) {
+      const double driver = s.soften_form == "recovering_accumulated" ? acc : e_max;
+      const double d_star = s.soften_d_inf * -std::expm1(-driver / s.soften_scale);
+      if (de_load > 0) d_state += std::max(0.0, d_star - d_state) * std::min(1.0, de_load / s.soften_reload_strain);
+      const double floor = (1 - s.soften_q) * d_star;
+      if (rest && d_state > floor) d_state += (floor - d_state) * -std::expm1(-h / s.soften_rec_tau_s);
+    }
+    if (has(s, "permanent_set")) {
+      if (s.set_form == "ratchet") {
+        ep_state += s.set_ratchet_c * std::max(0.0, e - std::max(std::max(0.0, e_prev), s.set_yield_strain));
+      } else {
+        if (de_load > 0) ep_state = std::max(ep_state, s.set_ratio * std::max(0.0, e - s.set_yield_strain));
+        const double floor = (1 - s.set_q) * s.set_ratio * std::max(0.0, e_max - s.set_yield_strain);
+        if (e < ep_state && ep_state > floor) ep_state += (floor - ep_state) * -std::expm1(-h / s.set_rec_tau_s);
+      }
+    }
+  }
+
   // Moves to strain e at rate edot over a step of h [s]; returns the force at the end.
   double step(double e, double edot, double h) {
-    if (e > 0) acc += std::max(0.0, e - std::max(0.0, e_prev));
+    const double de_load = e > 0 ? std::max(0.0, e - std::max(0.0, e_prev)) : 0.0;
+    acc += de_load;
     e_max = std::max(e_max, e);
+    if (s.forms == TrialForms::kHarder) advanceHarder(e, edot, h, de_load);
     e_prev = e;
     const double fs = elastic(e);
     double g_inf = 1;
+    if (has(s, "stress_relaxation") && s.forms == TrialForms::kHarder) {
+      double sum = 0;
+      for (size_t i = 0; i < hb.size(); ++i) {
+        const double x = h / s.prony_tau_s[i];
+        hb[i] = std::exp(-x) * hb[i] + s.prony_g[i] * -std::expm1(-x) / x * (fs - fs_prev);
+        g_inf -= s.prony_g[i];
+        sum += hb[i];
+      }
+      fs_prev = fs;
+      return g_inf * fs + sum + s.ec_Ns * edot;
+    }
     if (has(s, "stress_relaxation")) {
       const double x1 = h / s.relax_tau1_s, x2 = h / s.relax_tau2_s;
       h1 = std::exp(-x1) * h1 + s.relax_g1 * -std::expm1(-x1) / x1 * (fs - fs_prev);
@@ -111,7 +167,98 @@ struct HiddenLaw {
   }
 };
 
+// Strain the protocol of a spec adds while loading (sum of its ramps' increases of the
+// positive strain) [-], counting only what lies above the strain `above` [-].
+double loadingStrain(const TrialSpec& s, double above) {
+  std::mt19937_64 prng(s.seed ^ 0x51ed2701a3b4c5d6ULL);
+  const Knots k = protocol(s, prng);
+  double total = 0;
+  for (size_t i = 1; i < k.e.size(); ++i)
+    total += std::max(0.0, k.e[i] / s.sample_length_m - std::max(above, k.e[i - 1] / s.sample_length_m));
+  return total;
+}
+
+// The harder forms of a spec (forms = kHarder), drawn after everything the other and own
+// forms draw (so those stay as they were): the form of each effect and its parameters,
+// always all of them (the same seed, the same forms in every class). Sets EA so that the
+// virgin curve reaches fmax [N] at the largest strain.
+void harderForms(TrialSpec* sp, std::mt19937_64& rng, double stiff_ratio, double d_inf, double ec_over_max,
+                 double cycles_to_sat, double set, double yield_over_max, double fmax) {
+  TrialSpec& s = *sp;
+  const double smax = s.max_strain;
+  const bool power = uniformDraw(rng, 0, 1) < 0.5;
+  const double power_p = uniformDraw(rng, 1.2, 4.0);
+  const double toe_over_max = uniformDraw(rng, 0.15, 0.4), width_over_max = uniformDraw(rng, 0.1, 0.3);
+  const bool box = uniformDraw(rng, 0, 1) < 0.5;
+  const double g_total = uniformDraw(rng, 0.3, 0.5);
+  const double tau_lo = uniformDraw(rng, 0.3, 1.0), tau_hi = uniformDraw(rng, 30.0, 100.0);
+  const int branches = std::uniform_int_distribution<int>(4, 6)(rng);
+  std::vector<double> branch_tau(6), branch_w(6);
+  for (int i = 0; i < 6; ++i)
+    branch_tau[i] = std::exp(uniformDraw(rng, std::log(0.3), std::log(100.0))), branch_w[i] = uniformDraw(rng, 0.5, 1.5);
+  const bool accumulated = uniformDraw(rng, 0, 1) < 0.5;
+  const double soften_q = uniformDraw(rng, 0.3, 0.7), soften_tau = uniformDraw(rng, 10.0, 40.0);
+  const bool ratchet = uniformDraw(rng, 0, 1) < 0.5;
+  const double set_q = uniformDraw(rng, 0.3, 0.7), set_tau = uniformDraw(rng, 1.0, 4.0);
+
+  double shape = smax;  // Fe(smax) / EA
+  if (has(s, "strain_stiffening")) {
+    s.stiff_form = power ? "power" : "toe_linear";
+    if (power) {
+      s.power_p = power_p;
+      s.power_c = (stiff_ratio - 1) / ((power_p + 1) * std::pow(smax, power_p));  // tangent at smax: ratio EA
+    } else {
+      s.toe_strain = toe_over_max * smax;
+      s.toe_width = width_over_max * smax;
+      s.linear_ratio = stiff_ratio;  // reached before smax (x_t + w <= 0.7 smax)
+    }
+    shape = harderStiffShape(s, smax);
+  }
+  s.ea_N = fmax / shape;
+  if (has(s, "stress_relaxation")) {
+    s.relax_form = box ? "box_spectrum" : "branches";
+    if (box) {
+      // Fung's QLV box spectrum, discretised: 24 branches of equal weight, log-spaced times.
+      constexpr int kBox = 24;
+      for (int i = 0; i < kBox; ++i) {
+        s.prony_tau_s.push_back(tau_lo * std::pow(tau_hi / tau_lo, (i + 0.5) / kBox));
+        s.prony_g.push_back(g_total / kBox);
+      }
+    } else {
+      std::vector<std::pair<double, double>> b;
+      double wsum = 0;
+      for (int i = 0; i < branches; ++i) b.push_back({branch_tau[i], branch_w[i]}), wsum += branch_w[i];
+      std::sort(b.begin(), b.end());
+      for (const auto& [tau, w] : b) s.prony_tau_s.push_back(tau), s.prony_g.push_back(g_total * w / wsum);
+    }
+  }
+  if (has(s, "cyclic_softening")) {
+    s.soften_form = accumulated ? "recovering_accumulated" : "recovering_largest";
+    s.soften_d_inf = d_inf;
+    s.soften_scale = accumulated ? loadingStrain(s, 0.0) / cycles_to_sat : ec_over_max * smax;
+    s.soften_q = soften_q;
+    s.soften_rec_tau_s = soften_tau;
+    s.soften_reload_strain = 0.05 * smax;
+  }
+  if (has(s, "permanent_set")) {
+    s.set_form = ratchet ? "ratchet" : "recovering";
+    s.set_ratio = set;
+    s.set_yield_strain = yield_over_max * smax;
+    if (ratchet) s.set_ratchet_c = set * smax / std::max(1e-9, loadingStrain(s, s.set_yield_strain));
+    else s.set_q = set_q, s.set_rec_tau_s = set_tau;
+  }
+}
+
 }  // namespace
+
+std::string TrialSpec::formNames() const {
+  if (forms == TrialForms::kOwn) return "own";
+  if (forms == TrialForms::kOther) return "other";
+  std::string n;
+  for (const std::string* f : {&stiff_form, &relax_form, &soften_form, &set_form})
+    if (!f->empty()) n += (n.empty() ? "" : "+") + *f;
+  return n.empty() ? "none" : n;
+}
 
 TrialSpec drawTrialSpec(uint64_t seed, const std::vector<std::string>& effects, TrialForms forms) {
   std::mt19937_64 rng(seed * 0x2545F4914F6CDD1DULL + 17);
@@ -176,6 +323,8 @@ TrialSpec drawTrialSpec(uint64_t seed, const std::vector<std::string>& effects, 
     s.set_ratio = set;
     if (forms == TrialForms::kOther) s.set_yield_strain = yield_over_max * smax;
   }
+  if (forms == TrialForms::kHarder) harderForms(&s, rng, stiff_ratio, d_inf, ec_over_max, cycles_to_sat, set,
+                                                 yield_over_max, fmax);
   return s;
 }
 

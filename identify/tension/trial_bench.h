@@ -11,6 +11,28 @@
 //   permanent_set       with a yield threshold:                    e_p = r e_max
 //                       e_p = r max(0, e_max - e_y)
 //
+// Two of those "other" forms (the set with a yield strain, two relaxation times) have since
+// become forms of colosim's laws. The harder forms (forms = kHarder) are forms no law of
+// colosim has; each seed draws one form per effect (the same in every class):
+//
+//   effect              harder forms (one of two per seed)
+//   strain_stiffening   power law: Fe = EA x (1 + c x^p), p 1.2-4
+//                       toe and linear region: tangent EA up to x_t, rising linearly to
+//                         R EA over a width w, R EA beyond (linear, unlike any exponential)
+//   stress_relaxation   Fung's box spectrum: 24 Maxwell branches of equal weight, times
+//                         log-spaced over [tau_lo, tau_hi] (0.3-1 s to 30-100 s)
+//                       4-6 Maxwell branches of drawn weights at log-uniform times in 0.3-100 s
+//   cyclic_softening    damage that partly recovers at rest (whenever the strain is not
+//                         rising): it tends to d* = d_inf (1 - exp(-driver / scale)) while
+//                         loading and relaxes towards (1 - q) d* with time constant tau_rec
+//                         otherwise; the driver is the accumulated loading strain or the
+//                         largest strain (drawn)
+//   permanent_set       ratcheting: e_p grows by c de for every strain increase de above a
+//                         yield strain, so repeated cycles to one amplitude keep adding set
+//                       recovering in slack: e_p rises to r max(0, e - e_y) while loading and
+//                         relaxes towards (1 - q) of r max(0, e_max - e_y) while the sample is
+//                         slack (e < e_p), time constant 1-4 s
+//
 // The protocols are not the project generator's either: staircases with holds of 5-15 s
 // (up, down and up again), or cycles of rising amplitude with holds, each at two loading
 // rates; a second-order actuator (smoothed corners), sampling at 50-200 Hz with an
@@ -27,7 +49,7 @@
 namespace colosim {
 
 /// Which forms of the effects the bench hides.
-enum class TrialForms { kOther, kOwn };
+enum class TrialForms { kOther, kOwn, kHarder };
 
 /// One drawn trial: what the bench hid and the parameters it used.
 struct TrialSpec {
@@ -50,7 +72,24 @@ struct TrialSpec {
   double soften_d_inf = 0;    ///< stiffness fraction lost at saturation [-]
   double soften_scale = 1;    ///< a_c (own) or e_c (other) [-]
   double set_ratio = 0;       ///< r [-]
-  double set_yield_strain = 0;  ///< e_y (other form) [-]
+  double set_yield_strain = 0;  ///< e_y (other and harder forms) [-]
+  // Harder forms (kHarder): which form of each effect, and its own parameters.
+  std::string stiff_form;     ///< "power" or "toe_linear"
+  std::string relax_form;     ///< "box_spectrum" or "branches"
+  std::string soften_form;    ///< "recovering_accumulated" or "recovering_largest"
+  std::string set_form;       ///< "ratchet" or "recovering"
+  double power_c = 0, power_p = 2;   ///< Fe = EA x (1 + c x^p) [-], [-]
+  double toe_strain = 0, toe_width = 0, linear_ratio = 1;  ///< x_t [-], w [-], R [-]
+  std::vector<double> prony_g, prony_tau_s;  ///< the Maxwell branches: weights [-], times [s]
+  double soften_q = 0;        ///< recoverable fraction of the damage [-]
+  double soften_rec_tau_s = 30;   ///< recovery time constant at rest [s]
+  double soften_reload_strain = 0.02;  ///< loading strain over which damage returns [-]
+  double set_ratchet_c = 0;   ///< set per unit of loading strain above e_y [-]
+  double set_q = 0;           ///< recoverable fraction of the set in slack [-]
+  double set_rec_tau_s = 2;   ///< its time constant [s]
+  /// A short name of the drawn forms of the hidden effects, e.g. "power+box_spectrum"
+  /// (other and own forms: "other" / "own").
+  std::string formNames() const;
 };
 
 /// Draws a trial: protocol, law and noise from the ranges in trial_bench.cc. The same seed
