@@ -211,6 +211,16 @@ ColonModel adultColonWith(Change change) {
   return buildColonModel(loadAnatomy(test::asset("anatomy/adult.json")), p.colon);
 }
 
+// The tuned patient's colon with `field` set to each of `bad` is refused by the model's build.
+void expectOutOfRangeRefused(double ColonParams::*field, std::initializer_list<double> bad) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
+  for (double value : bad) {
+    p.colon.*field = value;
+    EXPECT_THROW(buildColonModel(a, p.colon), std::invalid_argument) << value;
+  }
+}
+
 TEST(ColonCompression, EnergyNeverIncreasesWithDampingAndSoftCompression) {
   const ColonModel m = adultColonWith([](ColonParams& c) { c.compression_stiffness_fraction = 0.05; });
   test::expectEnergyNeverIncreases(m, 3000, kDt, 11, 0.5);
@@ -235,10 +245,7 @@ TEST(ColonCompression, DefaultIsThePaperElementASofterOneMovesOtherwiseAndOutOfR
     stepColon(soft, t, kDt);
   }
   EXPECT_GT((s.q - t.q).cwiseAbs().maxCoeff(), 1e-6);
-  for (double bad : {0.0, -0.1, 1.5, std::nan("")}) {
-    p.colon.compression_stiffness_fraction = bad;
-    EXPECT_THROW(buildColonModel(a, p.colon), std::invalid_argument) << bad;
-  }
+  expectOutOfRangeRefused(&ColonParams::compression_stiffness_fraction, {0.0, -0.1, 1.5, std::nan("")});
 }
 
 // Lifters along the colon (ColonModel::mesentery_axial_ratio a): a straight colon shifted
@@ -269,13 +276,9 @@ TEST(MesenteryAxialRatio, EnergyNeverIncreasesWithDampingEvenWithNoAxialLifter) 
 }
 
 TEST(MesenteryAxialRatio, DefaultIsThePapersIsotropicLifterAndOutOfRangeIsRefused) {
-  Parameters p = loadParameters(test::asset("params/default.json"));
-  EXPECT_EQ(p.colon.mesentery_axial_ratio, 1.0);  // the key is optional: absent, the paper's lifters
-  const Anatomy a = loadAnatomy(test::asset("anatomy/adult.json"));
-  for (double bad : {-0.1, 1.5, std::nan("")}) {
-    p.colon.mesentery_axial_ratio = bad;
-    EXPECT_THROW(buildColonModel(a, p.colon), std::invalid_argument) << bad;
-  }
+  // The key is optional: absent, the paper's lifters.
+  EXPECT_EQ(loadParameters(test::asset("params/default.json")).colon.mesentery_axial_ratio, 1.0);
+  expectOutOfRangeRefused(&ColonParams::mesentery_axial_ratio, {-0.1, 1.5, std::nan("")});
 }
 
 ColonModel adultWithBending(double EI, double beta) {
