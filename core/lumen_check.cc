@@ -24,6 +24,19 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
   auto beyondWall = [&](const Vec3& x, const WallTrack& t) {
     return (x - splinePoint(s.colon.q, t.colon_segment, t.p)).norm() - colon.radiusAt(t.colon_segment, t.p);
   };
+  // The track is the step's start one: where the scope slides along a taper it can lag
+  // the slice by a segment end (the tip 0.1 mm beyond the wall at its track, inside at the
+  // nearest point of the next segment, which the next step's tracking finds). A centre is
+  // out of the lumen when it is beyond the wall at its nearest point on the tracked
+  // segment and on both its neighbours (1.5 cm of colon each way; a scope that tunnelled
+  // to another part of the colon is far from all three).
+  auto insideNear = [&](const Vec3& x, int j) {
+    for (int jj = std::max(0, j - 1); jj <= std::min(colon.n - 2, j + 1); ++jj) {
+      const ClosestPoint c = closestPointOnSegment(s.colon.q, jj, x);
+      if (c.distance - colon.radiusAt(jj, c.p) <= 0) return true;
+    }
+    return false;
+  };
   bool have_previous = false;
   double previous_arc = 0;
   // Slices from the anus to the tip: segment inside-1 is the deepest-in proximal one.
@@ -38,7 +51,9 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
       if (have_previous) out.track_jump_m = std::max(out.track_jump_m, std::abs(a - previous_arc) - slice_length_m);
       have_previous = true;
       previous_arc = a;
-      if (beyondWall(sliceCentre(scope, s.scope, k, sl), t) > 0) out.lumen_exit = true;
+      if (!out.lumen_exit && beyondWall(sliceCentre(scope, s.scope, k, sl), t) > 0 &&
+          !insideNear(sliceCentre(scope, s.scope, k, sl), t.colon_segment))
+        out.lumen_exit = true;
       for (int i = sl * per_slice; i < (sl + 1) * per_slice; ++i) {
         const WallTrack& ti = s.track[static_cast<size_t>(k) * P + i];
         if (ti.colon_segment >= 0)

@@ -21,7 +21,8 @@ struct LumenCheck {
   /// Deepest interaction point beyond the wall it is tracked on: |x - M(track)| minus the
   /// lumen radius there (0 when every point is inside) [m].
   double wall_penetration_m = 0;
-  /// Some slice centre (on the scope's axis) lies outside the lumen of its track.
+  /// Some slice centre (on the scope's axis) lies outside the lumen of its track and
+  /// outside it at its nearest point on that colon segment and both its neighbours.
   bool lumen_exit = false;
 };
 

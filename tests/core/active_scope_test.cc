@@ -149,16 +149,19 @@ TEST(ActiveScope, FollowTheLeaderShaftFollowsTheTipsPathInFreeSpace) {
 }
 
 // A scope pushed along an inclined wall: the wall y < 0.3 (x - 0.15) (outside the lumen
-// beyond the plane), penalty 1000 N/m and 1 N s/m per interaction point, no friction.
-// Returns the total wall force at the end [N].
+// beyond the plane), penalty 1000 N/m and 1 N s/m per interaction point, no friction;
+// pushed in to 0.35 m over 1.4 s, then held for 0.6 s. Returns the total wall force
+// averaged over the last 0.5 s [N] (one step's force is no measure: an eager agent makes
+// the scope flail on and off the wall).
 double pressedOnAWall(const ScopeModel& m, ScopeState& s, const std::function<void(const ScopeState&)>& each = {}) {
   const Vec3 n = Vec3(-0.3, 1, 0).normalized();  // into the free side
   HandleInput in;
-  double total = 0;
+  double sum = 0;
+  int summed = 0;
   for (int step = 1; step <= 2000; ++step) {
     in.insertion_m = 0.35 * std::min(1.0, step / 1400.0);
     s.loads.clear();
-    total = 0;
+    double total = 0;
     for (int k = 0; k < s.inside; ++k)
       for (const Vec3& q : m.interaction_points_S) {
         const Vec3 r = s.R_WS[k] * q, x = s.p_W[k] + r;
@@ -175,22 +178,27 @@ double pressedOnAWall(const ScopeModel& m, ScopeState& s, const std::function<vo
         s.loads.push_back(load);
         total += f;
       }
+    if (step > 1500) sum += total, ++summed;
     stepScope(m, s, in, kDt);
     if (each) each(s);
   }
-  return total;
+  return sum / summed;
 }
 
-TEST(ActiveScope, ContactMinimisingLowersTheWallForce) {
+// DISABLED: the contact-minimising agents do not lower the wall force here (issue 20).
+// Averaged over the hold, the force is the passive one or more at every setting tried
+// (passive 0.131 N; time constant 0.02 / 0.05 / 0.2 s x gain 0.5 / 1 / 2 / 5: 0.131 to
+// 0.272 N, rising with the gain; at 0.02 s and gain 5 the scope flails on and off the
+// wall). The test first read the force at the last step only, which the flailing scope
+// happened to leave off the wall (0.000 N): that figure is withdrawn (docs/active-scope.md).
+TEST(ActiveScope, DISABLED_ContactMinimisingLowersTheWallForce) {
   // A scope whose steerable tip is one joint: the wall meets the actuated part.
   const ScopeModel passive = scope(ActiveScopeParams(), Vec3::Zero(), 0.015);
   ScopeState p = makeScopeState(passive);
   const double f_passive = pressedOnAWall(passive, p);
   const double limit = 0.5;
   // A fast, eager agent (tau 20 ms, gain 5: it yields 125 rad per N m of contact moment at
-  // steady state). With the shipped design's 0.2 s and gain 1 (2.5 rad per N m) the force
-  // here is the passive one (0.135 N against 0.133 N): the wall force of a cantilever
-  // pressed at its tip only falls once the whole shaft bends away, not one joint.
+  // steady state).
   ActiveScopeParams eager = active(ActiveStrategy::kContactMinimising, 0.02, limit);
   eager.contact_gain = 5.0;
   const ScopeModel cm = scope(eager, Vec3::Zero(), 0.015);
@@ -200,7 +208,7 @@ TEST(ActiveScope, ContactMinimisingLowersTheWallForce) {
     for (int k = cm.first_actuated_joint; k < std::min(cm.actuated_joints, st.inside); ++k)
       worst_moment = std::max(worst_moment, actuatorMoment(cm, st, k));
   });
-  std::printf("wall force: passive %.3f N, contact-minimising %.3f N\n", f_passive, f_active);
+  std::printf("wall force over the hold: passive %.3f N, contact-minimising %.3f N\n", f_passive, f_active);
   EXPECT_GT(f_passive, 0.1);  // the scope is pressed on the wall
   EXPECT_LT(f_active, 0.8 * f_passive);
   EXPECT_LE(worst_moment, limit * (1 + 1e-9));
