@@ -184,10 +184,11 @@ bool isSigmoidScenario(const std::string& id) { return id == "sigmoid_untwist" |
 void expectTheExpertSessionsScores(bool sigmoid) {
   const std::vector<ExpertSession> experts = loadExpertSessions();
   ASSERT_FALSE(experts.empty());
-  for (const ExpertSession& e : experts)
-    if (isSigmoidScenario(e.scenario_id) == sigmoid)
-      EXPECT_EQ(e.scores, runOnce(e.scenario_id).scores)
-          << e.file << " is stale; record it again (docs/file-formats.md, Expert references)";
+  for (const ExpertSession& e : experts) {
+    if (isSigmoidScenario(e.scenario_id) != sigmoid) continue;
+    EXPECT_EQ(e.scores, runOnce(e.scenario_id).scores)
+        << e.file << " is stale; record it again (docs/file-formats.md, Expert references)";
+  }
 }
 
 TEST(ScenarioRuns, SigmoidScenariosScoreAsTheirExpertSessions) { expectTheExpertSessionsScores(true); }
