@@ -16,9 +16,8 @@ struct ScopeState;
 void kinematicPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad,
                    Vec3* p_W, Mat3* R_WS);
 
-/// The pose of segment k when it is the first outside segment turned by `tilt_rad` from its
-/// straight pose: the turn it left the chain with (withdrawn), or the one it will join with
-/// (entering, core/scope_step.cc) (a world rotation vector, applied after the handle's
+/// The pose of segment k when it is the first outside segment and left the chain turned by
+/// `tilt_rad` from its straight pose (a world rotation vector, applied after the handle's
 /// turn, so that turning the handle spins the segment about its own axis) [rad]: its axis passes through the
 /// anus and the tilt fades linearly as its length comes out, from all of it when its
 /// proximal end is at the anus (insertion (k+1) h) to none when its distal end is

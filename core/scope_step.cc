@@ -95,39 +95,12 @@ int trackTiltedSegment(const ScopeModel& m, ScopeState& s, const HandleInput& in
   return rejoined;
 }
 
-// The entering segment k (the first outside one, its distal neighbour simulated): the
-// rotation [rad] of its proximal joint k (its frame against the straight segment k+1's)
-// at which, were it free, the moments of its two joints would balance, given the
-// rotation its distal joint k-1 has with k straight: per axis, K_k-1 (total - rest_k-1 -
-// omega) = K_k (omega - rest_k) (joint frames taken as one, rotations as additive). For a
-// passive shaft, half the total.
-Vec3 enteringJointRotation(const ScopeModel& m, const ScopeState& s, const HandleInput& in, int k,
-                           const Mat3& R_straight) {
-  const Vec3 total = logSO3(R_straight.transpose() * s.R_WS[k - 1]);
-  auto stiffness = [&](int j) {
-    Vec3 kd = m.joint_stiffness_Nm_per_rad[j];
-    const double ei_factor = bendingStiffnessFactor(m, j, in);
-    kd.x() *= ei_factor;
-    kd.y() *= ei_factor;
-    return kd;
-  };
-  const Vec3 kd = stiffness(k - 1), kp = stiffness(k);
-  const Vec3 rest_d = jointRestRotation(m, s, k - 1, in), rest_p = jointRestRotation(m, s, k, in);
-  return (kd.cwiseProduct(total - rest_d) + kp.cwiseProduct(rest_p)).cwiseQuotient(kd + kp);
-}
-
 // The outside part moves with the handle. A segment that crosses the anus this step joins
 // from where it was at the start of the step (its kinematic pose of the last inputs) with
 // the handle's velocity, like the simulated segments: the integration carries it on.
 // (Placed at the new inputs' pose and then integrated, it ran dt * speed ahead of its
 // base: 0.7 mm at 1 m/s, which the 2e6 N/m joint read as a pull of up to 495 N on the
 // handle in extreme_all.)
-// The segment entering (the first outside one) turns towards its distal neighbour as its
-// length goes in, pivoting about the anus (exitPose with the turn it will join with,
-// enteringJointRotation), so that it joins already turned. Joined straight and turned then
-// about its proximal end, it opened its distal joint by h sin(turn) in one step: 680 um and
-// a one-step push of 9.6 N on the handle (against 2.0 N before) at 15.335 s of
-// sigmoid_untwist; now 2.6 N.
 void moveOutsidePart(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int rejoined,
                      double dt) {
   const int K = m.segment_count;
@@ -146,21 +119,6 @@ void moveOutsidePart(const ScopeModel& m, ScopeState& s, const HandleInput& in, 
       s.w_W[k] = logSO3(s.R_WS[k] * R0.transpose()) / dt;
       continue;
     }
-    if (k == inside && inside >= 1) {
-      // Entering: pivoting about the anus, turned towards its distal neighbour as its
-      // length goes in, up to the half turn it joins with (relaxJoiningSegments). Its
-      // velocity is that of its move this step, for the joint's damping.
-      const Vec3 p0 = s.p_W[k];
-      const Mat3 R0 = s.R_WS[k];
-      Vec3 p_straight;
-      Mat3 R_straight;
-      kinematicPose(m, k, in.insertion_m, in.rotation_rad, &p_straight, &R_straight);
-      const Vec3 tilt = R_straight * enteringJointRotation(m, s, in, k, R_straight);
-      exitPose(m, k, in.insertion_m, in.rotation_rad, tilt, &s.p_W[k], &s.R_WS[k]);
-      s.v_W[k] = (s.p_W[k] - p0) / dt;
-      s.w_W[k] = logSO3(s.R_WS[k] * R0.transpose()) / dt;
-      continue;
-    }
     if (k >= inside) kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
     s.v_W[k] = insertion_rate * e;
     s.w_W[k] = rotation_rate * e;
@@ -170,16 +128,13 @@ void moveOutsidePart(const ScopeModel& m, ScopeState& s, const HandleInput& in, 
 // Joining segments: a segment that has just crossed the anus joins the chain pre-relaxed:
 // turned by half of its distal neighbour's joint rotation (where the bending moment would
 // put it) and hanging from the outside part's distal end, so that it does not swing into
-// place (a spurious kick on the handle force). The first of them was turned so while it
-// went in (moveOutsidePart); the others (more than one segment in one step) are turned
-// here, about their proximal ends, which opens their distal joints. The tip joins bent as the knobs hold it (at
+// place (a spurious kick on the handle force). The tip joins bent as the knobs hold it (at
 // its joint's rest rotation), or it is flung by the whole bending moment at once (0.7 N m
 // on 3 g with the knobs at a stop).
 void relaxJoiningSegments(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int rejoined) {
   const double h = m.h_m;
   for (int k = std::max(s.inside, 1); k < inside; ++k) {
     if (k == rejoined) continue;
-    if (k == s.inside) continue;  // entered turned already (moveOutsidePart)
     const Vec3 half = 0.5 * logSO3(s.R_WS[k].transpose() * s.R_WS[k - 1]);
     const Vec3 joint_W = s.p_W[k] - 0.5 * h * s.R_WS[k].col(2);  // proximal end: fixed
     s.R_WS[k] = s.R_WS[k] * expSO3(half);

@@ -187,8 +187,8 @@ double pressedOnAWall(const ScopeModel& m, ScopeState& s, const std::function<vo
 
 // DISABLED: the contact-minimising agents do not lower the wall force here (issue 20).
 // Averaged over the hold, the force is the passive one or more at every setting tried
-// (passive 0.131 N; time constant 0.02 / 0.05 / 0.2 s x gain 0.5 / 1 / 2 / 5: 0.131 to
-// 0.272 N, rising with the gain; at 0.02 s and gain 5 the scope flails on and off the
+// (passive 0.134 N; time constant 0.02 / 0.05 / 0.2 s x gain 0.5 / 1 / 2 / 5: 0.134 to
+// 0.433 N, rising with the gain; at 0.02 s and gain 5 the scope flails on and off the
 // wall). The test first read the force at the last step only, which the flailing scope
 // happened to leave off the wall (0.000 N): that figure is withdrawn (docs/active-scope.md).
 TEST(ActiveScope, DISABLED_ContactMinimisingLowersTheWallForce) {
