@@ -51,9 +51,10 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
       if (have_previous) out.track_jump_m = std::max(out.track_jump_m, std::abs(a - previous_arc) - slice_length_m);
       have_previous = true;
       previous_arc = a;
-      if (!out.lumen_exit && beyondWall(sliceCentre(scope, s.scope, k, sl), t) > 0 &&
-          !insideNear(sliceCentre(scope, s.scope, k, sl), t.colon_segment))
-        out.lumen_exit = true;
+      if (!out.lumen_exit) {
+        const Vec3 centre = sliceCentre(scope, s.scope, k, sl);
+        if (beyondWall(centre, t) > 0 && !insideNear(centre, t.colon_segment)) out.lumen_exit = true;
+      }
       for (int i = sl * per_slice; i < (sl + 1) * per_slice; ++i) {
         const WallTrack& ti = s.track[static_cast<size_t>(k) * P + i];
         if (ti.colon_segment >= 0)
