@@ -15,11 +15,13 @@ void kinematicPose(const ScopeModel& m, int k, double L, double phi, Vec3* p, Ma
   *R = expSO3(phi * e) * m.R_W_entry;
 }
 
-void exitPose(const ScopeModel& m, int k, double L, double phi, const Vec3& tilt_rad, Vec3* p, Mat3* R) {
-  const Vec3 e = m.R_W_entry.col(2);
-  const double out = std::clamp(((k + 1) * m.h_m - L) / m.h_m, 0.0, 1.0);  // fraction of its length outside
-  *R = expSO3((1.0 - out) * tilt_rad) * expSO3(phi * e) * m.R_W_entry;
-  *p = m.p_W_anus + (L - (k + 0.5) * m.h_m) * R->col(2);
+void exitPose(const ScopeModel& m, int k, double L, double phi, const Vec3& tilt_rad, const Vec3& offset_m, Vec3* p,
+              Mat3* R) {
+  const double kept = 1.0 - std::clamp((k * m.h_m - L) / m.h_m, 0.0, 1.0);  // of the offset when it left
+  Mat3 R_straight;
+  kinematicPose(m, k, L, phi, p, &R_straight);
+  *R = expSO3(kept * tilt_rad) * R_straight;
+  *p += kept * offset_m;
 }
 
 HandleInput clampHandleInput(const ScopeModel& m, const HandleInput& in) {

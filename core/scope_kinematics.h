@@ -16,14 +16,15 @@ struct ScopeState;
 void kinematicPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad,
                    Vec3* p_W, Mat3* R_WS);
 
-/// The pose of segment k when it is the first outside segment and left the chain turned by
-/// `tilt_rad` from its straight pose (a world rotation vector, applied after the handle's
-/// turn, so that turning the handle spins the segment about its own axis) [rad]: its axis passes through the
-/// anus and the tilt fades linearly as its length comes out, from all of it when its
-/// proximal end is at the anus (insertion (k+1) h) to none when its distal end is
-/// (insertion k h), where it matches kinematicPose().
+/// The pose of segment k when it is the first kinematic segment and left the simulated
+/// chain (withdrawn) off its straight pose: turned by `tilt_rad` (a world rotation vector,
+/// applied after the handle's turn, so that turning the handle spins the segment about its
+/// own axis) [rad] and with its centre offset by `offset_m` (world) [m]. Both fade linearly
+/// over the next segment length of withdrawal, from all of them when its distal end is at
+/// the anus (insertion k h, where it left) to none at insertion (k - 1) h, where it matches
+/// kinematicPose(). So a segment leaves the chain where the chain put it.
 void exitPose(const ScopeModel& model, int k, double insertion_m, double rotation_rad, const Vec3& tilt_rad,
-              Vec3* p_W, Mat3* R_WS);
+              const Vec3& offset_m, Vec3* p_W, Mat3* R_WS);
 
 /// Clamps handle inputs into the scope's ranges (insertion within the working length,
 /// knobs within their stops, the stiffness level within -1 .. kStiffnessLevelsMax - 1); NaN becomes 0.

@@ -97,6 +97,12 @@ struct ScopeParams {
   double segment_length_m = 0.015;        ///< h: length of one rigid segment [m]
   double joint_stiffness_N_per_m = 2e6;   ///< penalty keeping consecutive segments joined [N/m]
   double joint_damping_s = 0.002;         ///< joint damping as a time constant: C = t K [s]
+  /// The anal sphincter as a ring: the lateral stiffness with which it holds the scope
+  /// where it crosses the anus (the segment straddling the anus is simulated; the ring's
+  /// damping is joint_damping_s times its stiffness) [N/m]. On the straddling segment it
+  /// holds with at most this, less as the segment goes in so that the segment hands its
+  /// bend over from its distal joint to its proximal one across its length (core/scope_step.cc).
+  double sphincter_stiffness_N_per_m = 1e6;
   double drag_Ns_per_m2 = 1.0;            ///< viscous drag per length of the inserted tube [N s/m per m]
   int slices_per_segment = 1;             ///< slices of interaction points per segment (paper Fig. 5)
   int points_per_slice = 6;               ///< interaction points around each slice

@@ -45,13 +45,15 @@ void copyStartFields(const From& a, To& b) {
   std::copy(a.v_W.begin(), a.v_W.end(), b.v_W.begin());
   std::copy(a.w_W.begin(), a.w_W.end(), b.w_W.begin());
   b.inside = a.inside;
+  b.simulated = a.simulated;
   b.tilted_segment = a.tilted_segment;
   b.tilt_rad = a.tilt_rad;
+  b.tilt_offset_m = a.tilt_offset_m;
   b.input = a.input;
   b.time_s = a.time_s;
 }
 
-constexpr size_t kSnapshotHeader = 12;  // time, inside, tilted segment, tilt (3), inputs (4), grip slip (2)
+constexpr size_t kSnapshotHeader = 16;  // time, inside, simulated, tilted segment, tilt (3), tilt offset (3), inputs (4), grip slip (2)
 
 // The active scope's part of the snapshot, after the segments (none when it is off, so a
 // passive scope's snapshot and hash are as before): lead count, then per joint its rest
@@ -73,8 +75,10 @@ std::vector<double> getScopeState(const ScopeState& s) {
   out.reserve(kSnapshotHeader + K * 18 + activeSnapshotSize(s));
   out.push_back(s.time_s);
   out.push_back(s.inside);
+  out.push_back(s.simulated);
   out.push_back(s.tilted_segment);
   out.insert(out.end(), s.tilt_rad.data(), s.tilt_rad.data() + 3);
+  out.insert(out.end(), s.tilt_offset_m.data(), s.tilt_offset_m.data() + 3);
   out.push_back(s.input.insertion_m);
   out.push_back(s.input.rotation_rad);
   out.push_back(s.input.knob_updown_rad);
@@ -105,8 +109,10 @@ void setScopeState(const std::vector<double>& snap, ScopeState& s) {
   size_t i = 0;
   s.time_s = snap[i++];
   s.inside = static_cast<int>(snap[i++]);
+  s.simulated = static_cast<int>(snap[i++]);
   s.tilted_segment = static_cast<int>(snap[i++]);
   std::memcpy(s.tilt_rad.data(), &snap[i], 3 * sizeof(double)); i += 3;
+  std::memcpy(s.tilt_offset_m.data(), &snap[i], 3 * sizeof(double)); i += 3;
   s.input.insertion_m = snap[i++];
   s.input.rotation_rad = snap[i++];
   s.input.knob_updown_rad = snap[i++];

@@ -33,11 +33,15 @@ struct ScopeState {
   std::vector<Mat3> R_WS;  ///< segment frames (K): columns d1, d2, d3
   std::vector<Vec3> v_W;   ///< segment centre velocities (K) [m/s]
   std::vector<Vec3> w_W;   ///< segment angular velocities, world (K) [rad/s]
-  int inside = 0;          ///< simulated segments: 0 .. inside-1 (the rest are kinematic)
-  /// The first outside segment when it left the chain bent (withdrawn), else -1: it comes
-  /// out pivoting about the anus and straightens as it does (see exitPose()).
+  int inside = 0;          ///< segments wholly inside the body: 0 .. inside-1
+  /// Simulated segments: 0 .. simulated-1, the ones inside and the one straddling the anus
+  /// (held there by the sphincter, a ring: see core/scope_step.h); the rest are kinematic.
+  int simulated = 0;
+  /// The first kinematic segment when it left the chain off its straight pose (withdrawn),
+  /// else -1: it comes out straightening as it does (see exitPose()).
   int tilted_segment = -1;
-  Vec3 tilt_rad = Vec3::Zero();  ///< its rotation from the straight pose when it left: a world rotation vector [rad]
+  Vec3 tilt_rad = Vec3::Zero();    ///< its rotation from the straight pose when it left: a world rotation vector [rad]
+  Vec3 tilt_offset_m = Vec3::Zero();  ///< its centre's offset from the straight pose when it left, world [m]
   HandleInput input;       ///< the outside part's pose after the last step: the handle inputs, clamped, less the grip slip
   double grip_slip_m = 0;    ///< commanded minus actual insertion: how far the grip has slipped along the tube [m]
   double grip_slip_rad = 0;  ///< commanded minus actual rotation [rad]
@@ -55,6 +59,7 @@ struct ScopeState {
   /// engaged); the caller passes its reaction to the wall [N s].
   double lens_impulse_Ns = 0;
   HandleReaction handle;   ///< reaction after the last step
+  Vec3 sphincter_force_W = Vec3::Zero();  ///< the sphincter's force on the scope after the last step, world [N]
   bool solver_ok = true;   ///< false when the last solve failed or gave non-finite values (velocities then zeroed)
   int limited_segments = 0;        ///< segments slowed to the speed or spin limit in the last step
   double asked_speed_m_per_s = 0;  ///< largest segment speed the last solve asked for, before limiting [m/s]
@@ -87,8 +92,10 @@ struct ScopeState {
     std::vector<Vec3> p_W, v_W, w_W;
     std::vector<Mat3> R_WS;
     int inside = 0;
+    int simulated = 0;
     int tilted_segment = -1;
     Vec3 tilt_rad = Vec3::Zero();
+    Vec3 tilt_offset_m = Vec3::Zero();
     HandleInput input;
     double time_s = 0;
   } start;

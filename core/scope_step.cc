@@ -67,97 +67,87 @@ JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const Han
 // ---------------------------------------------------------------------------------------
 // The stages of advanceScope(), in order.
 
-// Inputs: the simulated segments after the step, those that crossed the anus by the insertion.
+// Inputs: the segments wholly inside after the step (those that crossed the anus by the
+// insertion) and the simulated ones: those and the one straddling the anus, while there is
+// a kinematic segment behind it for its proximal joint.
 int insideAfter(const ScopeModel& m, const HandleInput& in, int inside_set) {
   const int K = m.segment_count;
   return inside_set >= 0 ? inside_set : std::min(K - 1, static_cast<int>(std::floor(in.insertion_m / m.h_m + 1e-9)));
 }
 
-// The withdrawn segment: a segment withdrawn out of the chain keeps the tilt the chain gave
-// it and comes out pivoting about the anus, straightening as it does (exitPose). Put
-// straight at once, a segment bent 0.17 rad at the anus opened the last joint by 2.5 mm in
-// one step, a pull kick of 35-46 N on the handle at each crossing of a hooked withdrawal.
-// (Invariant: tilted_segment is -1 or the first outside segment, s.inside.)
+int simulatedAfter(const ScopeModel& m, const HandleInput& in, int inside) {
+  return inside + 1 < m.segment_count && in.insertion_m > 0 ? inside + 1 : inside;
+}
+
+// The leaving segment: a segment withdrawn out of the simulated chain (its distal end has
+// just come out through the sphincter) becomes kinematic where the chain left it, and
+// straightens over the next segment length of withdrawal (exitPose): the sphincter held
+// it only as firmly as its stiffness, so it may be off its straight pose by a fraction of
+// a millimetre, which put straight at once would open the joint to the chain against the
+// 2e6 N/m joint penalty.
+// (Invariant: tilted_segment is -1 or the first kinematic segment, s.simulated.)
 // Returns the tilted segment when it is pushed back in before it came out (it rejoins as
 // it is), else -1.
-int trackTiltedSegment(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside) {
+int trackTiltedSegment(const ScopeModel& m, ScopeState& s, int simulated) {
   int rejoined = -1;
-  if (inside < s.inside) {
+  if (simulated < s.simulated) {
+    // Its offset from the straight pose of the inputs its pose is at: the last step's.
     Vec3 p;
     Mat3 R_straight;
-    kinematicPose(m, inside, in.insertion_m, in.rotation_rad, &p, &R_straight);
-    s.tilted_segment = inside;
-    s.tilt_rad = logSO3(s.R_WS[inside] * R_straight.transpose());
-  } else if (inside > s.inside) {
+    kinematicPose(m, simulated, s.input.insertion_m, s.input.rotation_rad, &p, &R_straight);
+    s.tilted_segment = simulated;
+    s.tilt_rad = logSO3(s.R_WS[simulated] * R_straight.transpose());
+    s.tilt_offset_m = s.p_W[simulated] - p;
+  } else if (simulated > s.simulated) {
     rejoined = s.tilted_segment;
     s.tilted_segment = -1;
   }
   return rejoined;
 }
 
-// The outside part moves with the handle. A segment that crosses the anus this step joins
-// from where it was at the start of the step (its kinematic pose of the last inputs) with
-// the handle's velocity, like the simulated segments: the integration carries it on.
+// The outside part moves with the handle. A segment that starts to be simulated this step
+// (it has reached the anus) joins from where it was at the start of the step (its
+// kinematic pose of the last inputs) with the handle's velocity, like the simulated
+// segments: the integration carries it on. It joins straight and on the entry axis, as the
+// sphincter and the outside part hold it, so nothing is posed at the join.
 // (Placed at the new inputs' pose and then integrated, it ran dt * speed ahead of its
 // base: 0.7 mm at 1 m/s, which the 2e6 N/m joint read as a pull of up to 495 N on the
 // handle in extreme_all.)
-void moveOutsidePart(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int rejoined,
+void moveOutsidePart(const ScopeModel& m, ScopeState& s, const HandleInput& in, int simulated, int rejoined,
                      double dt) {
   const int K = m.segment_count;
   const Vec3 e = m.R_W_entry.col(2);
   const double insertion_rate = (in.insertion_m - s.input.insertion_m) / dt;
   const double rotation_rate = (in.rotation_rad - s.input.rotation_rad) / dt;
-  for (int k = std::min(inside, s.inside); k < K; ++k) {
-    if (k < inside && k < s.inside) continue;
+  for (int k = std::min(simulated, s.simulated); k < K; ++k) {
+    if (k < simulated && k < s.simulated) continue;
     if (k == rejoined) continue;  // keeps its pose and the velocity it came out with
     if (k == s.tilted_segment) {
       // The velocity of its move this step, for the joint's damping.
       const Vec3 p0 = s.p_W[k];
       const Mat3 R0 = s.R_WS[k];
-      exitPose(m, k, in.insertion_m, in.rotation_rad, s.tilt_rad, &s.p_W[k], &s.R_WS[k]);
+      exitPose(m, k, in.insertion_m, in.rotation_rad, s.tilt_rad, s.tilt_offset_m, &s.p_W[k], &s.R_WS[k]);
       s.v_W[k] = (s.p_W[k] - p0) / dt;
       s.w_W[k] = logSO3(s.R_WS[k] * R0.transpose()) / dt;
       continue;
     }
-    if (k >= inside) kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
+    if (k >= simulated) kinematicPose(m, k, in.insertion_m, in.rotation_rad, &s.p_W[k], &s.R_WS[k]);
     s.v_W[k] = insertion_rate * e;
     s.w_W[k] = rotation_rate * e;
   }
 }
 
-// Joining segments: a segment that has just crossed the anus joins the chain pre-relaxed:
-// turned by half of its distal neighbour's joint rotation (where the bending moment would
-// put it) and hanging from the outside part's distal end, so that it does not swing into
-// place (a spurious kick on the handle force). The tip joins bent as the knobs hold it (at
-// its joint's rest rotation), or it is flung by the whole bending moment at once (0.7 N m
-// on 3 g with the knobs at a stop).
-void relaxJoiningSegments(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int rejoined) {
-  const double h = m.h_m;
-  for (int k = std::max(s.inside, 1); k < inside; ++k) {
-    if (k == rejoined) continue;
-    const Vec3 half = 0.5 * logSO3(s.R_WS[k].transpose() * s.R_WS[k - 1]);
-    const Vec3 joint_W = s.p_W[k] - 0.5 * h * s.R_WS[k].col(2);  // proximal end: fixed
-    s.R_WS[k] = s.R_WS[k] * expSO3(half);
-    s.p_W[k] = joint_W + 0.5 * h * s.R_WS[k].col(2);
-  }
-  if (s.inside == 0 && inside > 0 && rejoined != 0) {
-    const Vec3 joint_W = s.p_W[0] - 0.5 * h * s.R_WS[0].col(2);
-    s.R_WS[0] = s.R_WS[0] * expSO3(restJointRotation(m, 0, in));
-    s.p_W[0] = joint_W + 0.5 * h * s.R_WS[0].col(2);
-  }
-}
-
 // Segment terms: the system and forces cleared, then per segment its mass (and the drag's
 // implicit part) and inertia, gravity and drag.
-void addSegmentTerms(const ScopeModel& m, ScopeState& s, int inside, double dt) {
-  const int n = 6 * inside;
+void addSegmentTerms(const ScopeModel& m, ScopeState& s, int simulated, double dt) {
+  const int n = 6 * simulated;
   double* f = s.force.data();
   double* rhs = s.rhs.data();
   std::fill(f, f + n, 0.0);
   std::fill(rhs, rhs + n, 0.0);
-  s.system.setZero(inside);
+  s.system.setZero(simulated);
   const double drag = m.params.drag_Ns_per_m2 * m.h_m;
-  for (int k = 0; k < inside; ++k) {
+  for (int k = 0; k < simulated; ++k) {
     Mat6 Mk = Mat6::Zero();
     Mk.topLeftCorner<3, 3>() = (m.segment_mass_kg + dt * drag) * Mat3::Identity();
     Mk.bottomRightCorner<3, 3>() =
@@ -176,17 +166,17 @@ struct BaseJoint {
   Mat6 K = Mat6::Zero();   // its stiffness block (base row, distal segment column)
 };
 
-// Joint terms: joint k joins segment k and k+1 (k+1 == inside: the base); its forces,
+// Joint terms: joint k joins segment k and k+1 (k+1 == simulated: the base); its forces,
 // and dt C + dt^2 K with C = beta K in the system and -dt^2 K u in the rhs.
-BaseJoint addJointTerms(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, double dt) {
+BaseJoint addJointTerms(const ScopeModel& m, ScopeState& s, const HandleInput& in, int simulated, double dt) {
   double* f = s.force.data();
   double* rhs = s.rhs.data();
   const double beta = m.params.joint_damping_s;
   BaseJoint base;
   const double sys_k = dt * beta + dt * dt;  // dt C + dt^2 K with C = beta K
-  for (int k = 0; k < inside; ++k) {
+  for (int k = 0; k < simulated; ++k) {
     const JointTerms t = jointTerms(m, s, k, in);
-    const bool proximal_simulated = (k + 1 < inside);
+    const bool proximal_simulated = (k + 1 < simulated);
     const Vec6 uk = stacked(s.v_W[k], s.w_W[k]);
     if (!proximal_simulated) base.f0 = t.f_proximal, base.K = t.K_dp.transpose(), base.u0 = uk;
     for (int c = 0; c < 6; ++c) f[6 * k + c] += t.f_distal(c);
@@ -208,46 +198,103 @@ BaseJoint addJointTerms(const ScopeModel& m, ScopeState& s, const HandleInput& i
   return base;
 }
 
-// Loads (contacts) at points of the simulated segments, with their stiffness and damping.
-void addLoadTerms(ScopeState& s, int inside, double dt) {
+// One load at a point of simulated segment k: its force and moment, and its stiffness and
+// damping (point velocity v + w x r = J u with J = [I, -[r]x]; J^T = [I; [r]x]).
+void addLoad(ScopeState& s, const ScopeLoad& load, double dt) {
   double* f = s.force.data();
   double* rhs = s.rhs.data();
-  for (const ScopeLoad& load : s.loads) {
-    if (load.segment < 0 || load.segment >= inside) continue;
-    // Point velocity v + w x r = J u with J = [I, -[r]x]; J^T = [I; [r]x].
-    const int k = load.segment;
-    const Mat3 Rx = skew(load.r_W);
-    const Vec3 v_point = s.v_W[k] + s.w_W[k].cross(load.r_W);
-    const Vec3 Kv = load.stiffness_N_per_m * v_point;
-    const Vec3 torque = load.r_W.cross(load.force_N), Ktorque = load.r_W.cross(Kv);
-    for (int c = 0; c < 3; ++c) {
-      f[6 * k + c] += load.force_N(c);
-      f[6 * k + 3 + c] += torque(c);
-      rhs[6 * k + c] -= dt * dt * Kv(c);
-      rhs[6 * k + 3 + c] -= dt * dt * Ktorque(c);
-    }
-    const Mat3 H = dt * load.damping_Ns_per_m + dt * dt * load.stiffness_N_per_m;
-    const Mat3 HR = H * Rx;
-    Mat6 B;
-    B << H, -HR, Rx * H, -Rx * HR;
-    s.system.diag(k) += B;
+  const int k = load.segment;
+  const Mat3 Rx = skew(load.r_W);
+  const Vec3 v_point = s.v_W[k] + s.w_W[k].cross(load.r_W);
+  const Vec3 Kv = load.stiffness_N_per_m * v_point;
+  const Vec3 torque = load.r_W.cross(load.force_N), Ktorque = load.r_W.cross(Kv);
+  for (int c = 0; c < 3; ++c) {
+    f[6 * k + c] += load.force_N(c);
+    f[6 * k + 3 + c] += torque(c);
+    rhs[6 * k + c] -= dt * dt * Kv(c);
+    rhs[6 * k + 3 + c] -= dt * dt * Ktorque(c);
   }
+  const Mat3 H = dt * load.damping_Ns_per_m + dt * dt * load.stiffness_N_per_m;
+  const Mat3 HR = H * Rx;
+  Mat6 B;
+  B << H, -HR, Rx * H, -Rx * HR;
+  s.system.diag(k) += B;
+}
+
+// Loads (contacts) at points of the simulated segments, with their stiffness and damping.
+void addLoadTerms(ScopeState& s, int simulated, double dt) {
+  for (const ScopeLoad& load : s.loads)
+    if (load.segment >= 0 && load.segment < simulated) addLoad(s, load, dt);
+}
+
+// The sphincter: a ring at the anus holding the straddling segment (the last simulated one,
+// when it is not wholly inside) at the scope's point that crosses the anus, arclength L
+// from the tip, laterally only (the insertion slides it through): a spring-damper towards
+// the entry axis, k P (x - p_anus) with P = I - e e^T.
+// On a chain of rigid segments the ring must hand the bend at the anus from the
+// straddling segment's distal joint to its proximal one as the segment goes in (a
+// continuous tube bends where it crosses the ring). The segment turns about its proximal
+// joint against that joint's bending stiffness kb and the ring's lever: k c^2, with c the
+// ring's distance from the proximal joint. A ring of constant k does it within the last
+// sqrt(kb / k) of the segment (0.1 mm at 1e6 N/m), a swing of the chain and a couple of
+// ring and joint of ~M sqrt(k / kb) / 2 (50 N for a 0.18 N m bend); a soft one leaves the
+// segment free to swing when it joins. So the ring holds with k = kb / d^2, d = L - k h
+// the depth of the segment's distal end, up to the sphincter's stiffness: the segment
+// joins straight (d = 0: the sphincter's stiffness) and turns by 1 / (2 + ((h - d) / d)^2)
+// of the bend as it goes in: a third at d = h / 2 (k c^2 = kb), half when it is in.
+ScopeLoad sphincterLoad(const ScopeModel& m, const ScopeState& s, const HandleInput& in, int k) {
+  const Vec3 e = m.R_W_entry.col(2);
+  const Mat3 P = Mat3::Identity() - e * e.transpose();
+  const Vec3 kb = m.joint_stiffness_Nm_per_rad[k];  // of its proximal joint [N m/rad]
+  const double bending = 0.5 * (kb.x() + kb.y()) * bendingStiffnessFactor(m, k, in);
+  const double depth = std::max(in.insertion_m - k * m.h_m, 0.0);  // of its distal end [m]
+  const double cap = m.params.sphincter_stiffness_N_per_m;
+  const double stiffness = depth * depth * cap > bending ? bending / (depth * depth) : cap;
+  ScopeLoad ring;
+  ring.segment = k;
+  ring.r_W = ((k + 0.5) * m.h_m - in.insertion_m) * s.R_WS[k].col(2);
+  const Vec3 x = s.p_W[k] + ring.r_W;
+  const Vec3 v = s.v_W[k] + s.w_W[k].cross(ring.r_W);
+  ring.stiffness_N_per_m = stiffness * P;
+  ring.damping_Ns_per_m = m.params.joint_damping_s * stiffness * P;
+  ring.force_N = -(ring.stiffness_N_per_m * (x - m.p_W_anus) + ring.damping_Ns_per_m * v);
+  return ring;
+}
+
+// Returns the ring's load at the start of the step (segment -1: no straddling segment).
+ScopeLoad addSphincterTerms(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int simulated,
+                            double dt) {
+  ScopeLoad ring;
+  ring.segment = -1;
+  if (simulated <= inside) return ring;
+  ring = sphincterLoad(m, s, in, simulated - 1);
+  addLoad(s, ring, dt);
+  return ring;
+}
+
+// The ring's force over the step, as the solve took it (backward Euler, like the handle's):
+// f0 - K dt v - C (v - v0) with v the point's velocity after the step, v0 before.
+Vec3 sphincterForceOverStep(const ScopeState& s, const ScopeLoad& ring, const Vec3& v0, double dt) {
+  if (ring.segment < 0) return Vec3::Zero();
+  const int k = ring.segment;
+  const Vec3 v = s.v_W[k] + s.w_W[k].cross(ring.r_W);
+  return ring.force_N - dt * (ring.stiffness_N_per_m * v) - ring.damping_Ns_per_m * (v - v0);
 }
 
 // Solve (M + dt C + dt^2 K) du = dt f - dt^2 K u on the simulated segments: a block
 // tridiagonal system (6 x 6 blocks), by block Cholesky. Limit: a failed or non-finite
 // solve gives du = 0 and s.solver_ok = false (integrateSegments() then stops the segments
 // rather than carry NaN on).
-void solveVelocityChange(ScopeState& s, int inside, double dt) {
-  const int n = 6 * inside;
+void solveVelocityChange(ScopeState& s, int simulated, double dt) {
+  const int n = 6 * simulated;
   const double* f = s.force.data();
   double* rhs = s.rhs.data();
   for (int i = 0; i < n; ++i) rhs[i] += dt * f[i];
   s.limited_segments = 0;
   s.asked_speed_m_per_s = s.asked_spin_rad_per_s = 0;
-  s.solver_ok = s.system.factorize(inside);
+  s.solver_ok = s.system.factorize(simulated);
   if (s.solver_ok) {
-    s.system.solveInPlace(inside, rhs);
+    s.system.solveInPlace(simulated, rhs);
     for (int i = 0; i < n; ++i) s.solver_ok = s.solver_ok && std::isfinite(rhs[i]);
   }
   if (!s.solver_ok) std::fill(rhs, rhs + n, 0.0);
@@ -261,10 +308,10 @@ void solveVelocityChange(ScopeState& s, int inside, double dt) {
 // a to gap / dt is applied to the whole chain: du -= P A^-1 J^T, with J = [n^T, (r x n)^T]
 // on the tip segment and A the step's matrix (one more solve with its factors). The
 // chain, its joints and the handle feel it; the caller passes -P to the wall.
-void guardLens(const ScopeModel& m, ScopeState& s, int inside, double dt) {
+void guardLens(const ScopeModel& m, ScopeState& s, int simulated, double dt) {
   s.lens_impulse_Ns = 0;
   const ScopeState::LensWall& wall = s.lens_wall;
-  if (!wall.active || !s.solver_ok || inside == 0) return;
+  if (!wall.active || !s.solver_ok || simulated == 0) return;
   double* du = s.rhs.data();
   const Vec3& n = wall.n_W;
   const Vec3 r = s.R_WS[0] * m.tip_face_points_S[0];
@@ -275,22 +322,22 @@ void guardLens(const ScopeModel& m, ScopeState& s, int inside, double dt) {
   const double a_max = wall.gap_m / dt;
   if (!(a > a_max)) return;
   double* x = s.guard_response.data();
-  std::fill(x, x + 6 * inside, 0.0);
+  std::fill(x, x + 6 * simulated, 0.0);
   for (int c = 0; c < 3; ++c) x[c] = n(c), x[3 + c] = rn(c);
-  s.system.solveInPlace(inside, x);
+  s.system.solveInPlace(simulated, x);
   const double response = n.dot(Vec3(x[0], x[1], x[2])) + rn.dot(Vec3(x[3], x[4], x[5]));
   if (!(response > 0) || !std::isfinite(response)) return;
   const double impulse = (a - a_max) / response;
-  for (int i = 0; i < 6 * inside; ++i) du[i] -= impulse * x[i];
+  for (int i = 0; i < 6 * simulated; ++i) du[i] -= impulse * x[i];
   s.lens_impulse_Ns = impulse;
 }
 
 // Integrate the simulated segments: u += du, x += dt u. Limit: a segment faster than the
 // solve is trusted with is slowed to that speed or spin.
-void integrateSegments(const ScopeModel& m, ScopeState& s, int inside, double dt) {
+void integrateSegments(const ScopeModel& m, ScopeState& s, int simulated, double dt) {
   const double* rhs = s.rhs.data();
   const double v_max = m.params.max_speed_m_per_s, w_max = m.params.max_spin_rad_per_s;
-  for (int k = 0; k < inside; ++k) {
+  for (int k = 0; k < simulated; ++k) {
     if (!s.solver_ok) {
       s.v_W[k].setZero();
       s.w_W[k].setZero();
@@ -318,10 +365,10 @@ void integrateSegments(const ScopeModel& m, ScopeState& s, int inside, double dt
 // at the new state instead adds the linearisation error of one step's rotation: a segment
 // at the anus tilted 0.5 rad and spun 0.1 rad per step opens the 2e6 N/m joint by ~40 um,
 // 80 N on the handle for one step, which the next steps relax.)
-void setHandleReaction(const ScopeModel& m, ScopeState& s, const BaseJoint& base, int inside, double dt) {
+void setHandleReaction(const ScopeModel& m, ScopeState& s, const BaseJoint& base, int simulated, double dt) {
   const Vec3 e = m.R_W_entry.col(2);
   const double beta = m.params.joint_damping_s;
-  const int j = inside - 1;
+  const int j = simulated - 1;
   const Vec6 u_new = stacked(s.v_W[j], s.w_W[j]);
   const Vec6 f_on_base = base.f0 - base.K * ((dt + beta) * u_new - beta * base.u0);
   s.handle.force_W = f_on_base.head<3>();
@@ -332,31 +379,39 @@ void setHandleReaction(const ScopeModel& m, ScopeState& s, const BaseJoint& base
 }  // namespace
 
 void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, double dt, int inside_set) {
-  // Inputs: the outside part moves with the handle; segments that crossed the anus are
-  // added to (pushed in) or removed from (withdrawn) the simulated chain.
+  // Inputs: the outside part moves with the handle; segments that reach the anus are added
+  // to (pushed in) or removed from (withdrawn) the simulated chain.
   const int inside = insideAfter(m, in, inside_set);
-  const int rejoined = trackTiltedSegment(m, s, in, inside);
-  moveOutsidePart(m, s, in, inside, rejoined, dt);
-  relaxJoiningSegments(m, s, in, inside, rejoined);
+  const int simulated = simulatedAfter(m, in, inside);
+  const int rejoined = trackTiltedSegment(m, s, simulated);
+  moveOutsidePart(m, s, in, simulated, rejoined, dt);
   s.inside = inside;
+  s.simulated = simulated;
   s.input = in;
   s.time_s += dt;
-  if (inside == 0) {  // nothing inside: no forces on the handle
+  if (simulated == 0) {  // nothing inside: no forces on the handle
     s.handle = HandleReaction();
+    s.sphincter_force_W.setZero();
     s.lens_impulse_Ns = 0;
     s.solver_ok = true;
     return;
   }
-  // Forces and the system: per segment, per joint, per load.
-  addSegmentTerms(m, s, inside, dt);
-  const BaseJoint base = addJointTerms(m, s, in, inside, dt);
-  addLoadTerms(s, inside, dt);
+  // Forces and the system: per segment, per joint, per load, and the sphincter.
+  addSegmentTerms(m, s, simulated, dt);
+  const BaseJoint base = addJointTerms(m, s, in, simulated, dt);
+  addLoadTerms(s, simulated, dt);
+  const ScopeLoad ring = addSphincterTerms(m, s, in, inside, simulated, dt);
+  const Vec3 ring_v0 = ring.segment < 0 ? Vec3::Zero() : Vec3(s.v_W[ring.segment] + s.w_W[ring.segment].cross(ring.r_W));
   // Solve for the velocity change, integrate (with the speed limits), and read the
   // handle's reaction off the last joint.
-  solveVelocityChange(s, inside, dt);
-  guardLens(m, s, inside, dt);
-  integrateSegments(m, s, inside, dt);
-  setHandleReaction(m, s, base, inside, dt);
+  solveVelocityChange(s, simulated, dt);
+  guardLens(m, s, simulated, dt);
+  integrateSegments(m, s, simulated, dt);
+  setHandleReaction(m, s, base, simulated, dt);
+  // The sphincter's force over the step, which the body takes: handle.force_W
+  // is what the scope exerts on the anus and the handle together.
+  s.sphincter_force_W = sphincterForceOverStep(s, ring, ring_v0, dt);
+  s.handle.force_W -= s.sphincter_force_W;
 }
 
 void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, double dt) {
@@ -378,7 +433,7 @@ void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, do
 
 double scopeKineticEnergy(const ScopeModel& m, const ScopeState& s) {
   double e = 0;
-  for (int k = 0; k < s.inside; ++k) {
+  for (int k = 0; k < s.simulated; ++k) {
     const Vec3 w_S = s.R_WS[k].transpose() * s.w_W[k];
     e += 0.5 * m.segment_mass_kg * s.v_W[k].squaredNorm() +
          0.5 * w_S.dot(m.segment_inertia_kgm2.cwiseProduct(w_S));

@@ -2,8 +2,10 @@
 // The step's pipeline is stepScope() (grip stages in core/scope_grip.h) around
 // advanceScope() (inputs, joining segments, forces, solve, integrate, handle reaction).
 //
-// Unknowns: the velocity and angular velocity of every simulated segment (6 each). Forces:
-// gravity, drag, the joints (a stiff penalty keeping consecutive segments joined, and
+// Unknowns: the velocity and angular velocity of every simulated segment (6 each): the
+// segments inside the body and the one straddling the anus, which the sphincter (a ring,
+// ScopeParams::sphincter_stiffness_N_per_m) holds laterally where it crosses the anus;
+// the rest, outside, move with the handle. Forces: gravity, drag, the joints (a stiff penalty keeping consecutive segments joined, and
 // bending/torsion springs on the relative rotation Omega = log(R_{k+1}^T R_k) against
 // the rest rotation set by the knobs in the steerable tip), and the loads (contacts).
 // The system (M + dt C + dt^2 K) du = dt (f - dt K u) is banded (a joint couples two
@@ -18,7 +20,8 @@ namespace colosim {
 
 /// Advances the scope by dt_s with the handle inputs `in` (clamped): updates the
 /// kinematic part outside the patient, adds or removes simulated segments at the anus,
-/// integrates the inside part with state.loads, and computes state.handle. Allocates nothing.
+/// integrates the simulated part with state.loads and the sphincter, and computes
+/// state.handle. Allocates nothing.
 /// Limits (docs/hardening.md): a segment whose new speed or spin exceeds
 /// model.params.max_speed_m_per_s or max_spin_rad_per_s is slowed to it (counted in
 /// state.limited_segments); a failed factorisation or a non-finite solve sets
@@ -33,8 +36,8 @@ namespace colosim {
 void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s);
 
 /// The step with the outside part taken to `in` (already clamped and gripped): everything
-/// of stepScope() but the grip. `inside_set` >= 0 sets the number of simulated segments
-/// instead of the insertion (the grip's trials keep those of the hand's move, so that the
+/// of stepScope() but the grip. `inside_set` >= 0 sets the number of segments inside
+/// (and so of the simulated ones) instead of the insertion (the grip's trials keep those of the hand's move, so that the
 /// reaction stays affine in the move). Allocates nothing.
 void advanceScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s,
                   int inside_set = -1);

@@ -164,8 +164,10 @@ void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_
   sc.input = in;
   sc.grip_slip_m = sc.grip_slip_rad = 0;
   sc.inside = std::min(scope.segment_count - 1, static_cast<int>(std::floor(depth / scope.h_m + 1e-9)));
+  sc.simulated = sc.inside + 1 < scope.segment_count && depth > 0 ? sc.inside + 1 : sc.inside;
   sc.tilted_segment = -1;
   sc.tilt_rad.setZero();
+  sc.tilt_offset_m.setZero();
   // Frames carried along the centreline by the rotation between consecutive axes
   // (parallel transport), starting from the entry frame turned by the handle.
   Mat3 R;

@@ -149,6 +149,8 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
     cp.wall_backing_stiffness_N_per_m = contact.quantity("wall_backing_stiffness", "N/m", 0.0, 1e6);
   if (contact.has("threading_stiffness"))
     cp.threading_stiffness_N_per_m = contact.quantity("threading_stiffness", "N/m", 0.0, 1e6);
+  if (contact.has("sphincter_stiffness"))
+    p.scope.sphincter_stiffness_N_per_m = contact.quantity("sphincter_stiffness", "N/m", 1.0, 1e8);
   cp.friction_coefficient = contact.quantity("friction_coefficient", "1", 0.0, 2.0);
   cp.friction_velocity_m_per_s = contact.quantity("friction_velocity", "m/s", 1e-6, 1.0);
   cp.self_stiffness_N_per_m = contact.quantity("self_stiffness", "N/m", 0.0, 1e6);

@@ -240,7 +240,7 @@ TEST(ActiveScope, PassiveScopeSnapshotHasNoActiveState) {
   EXPECT_EQ(m.actuated_joints, 0);
   const ScopeState s = makeScopeState(m);
   EXPECT_TRUE(s.joint_rest_rad.empty());
-  EXPECT_EQ(getScopeState(s).size(), 12u + 18u * m.segment_count);
+  EXPECT_EQ(getScopeState(s).size(), 16u + 18u * m.segment_count);
 }
 
 }  // namespace
