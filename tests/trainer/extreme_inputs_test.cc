@@ -278,15 +278,16 @@ void expectReplaysBitIdentically(const ReplayPlan& plan, const ExtremeRun& r, lo
 // finite, and the recording replays bit-identically. (The knob slams alone did until the
 // wires gave way, ScopeParams::knob_moment_limit_Nm; the shipped everything at once did
 // until the colon was held round the scope between slices, core/colon_threading.h.)
-// The run stops at 1.3 s, 60 ms into the withdrawal: the limiter engages as the push turns
-// back at 1.24 s (measured: 4 one-step episodes, 1.219-1.228 s, all of the 2.56 s run's);
-// the lens guard (209 steps) and the threading contacts (183) engage before. Half the
-// run's cost under the sanitizers (scripts/sanitize).
+// The run stops at 1.95 s: the limiter first engages at 1.935 s, a wall point asked 39.8 N
+// during the withdrawal (measured: 8 steps in 5 episodes over the 2.56 s run, from 1.935
+// s). (With the segment at the anus posed as it joined, before the sphincter's ring, it
+// engaged as the push turned back at 1.22 s, 4 one-step episodes, and not later.) The run
+// is cut for its cost under the sanitizers (scripts/sanitize).
 TEST(ExtremeInputs, LimiterEngagesIsRecordedAndReplays) {
   test::TempDir dir;
   const std::string path = dir.file("all.jsonl");
   Scenario sc = everythingAtOnce(0.8, 1.0);
-  sc.duration_s = 1.3;
+  sc.duration_s = 1.95;
   const ExtremeRun r = runScenario(sc, "extreme_all at 1.25 m/s, its first 1.3 s", path);
   expectSurvived(r);
   expectInTheLumen(r);
