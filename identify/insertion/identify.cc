@@ -447,8 +447,12 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     std::vector<std::vector<double>> values(cands.size());
     for (size_t c = 0; c < cands.size(); ++c) values[c] = grid(cands[c]);
     run(values, round == 1);
-    // Two refinements: geometric midpoints between the best value and its neighbours.
-    for (int stage = 0; stage < 2; ++stage) {
+    // Two refinements: geometric midpoints between the best value and its neighbours. Then
+    // a local scan, x 1/1.1 and x 1.1 of the best: the organ's response can switch branch
+    // within 15 % of a magnitude (a release during a hold that comes earlier or later,
+    // docs/organ-identification.md, "Landscape"), so a basin can lie between two of the
+    // bracket's values.
+    for (int stage = 0; stage < 3; ++stage) {
       for (size_t c = 0; c < cands.size(); ++c) {
         values[c].clear();
         const CvResult cv = crossValidate(rec, ev[c], fold, o.folds);
@@ -456,7 +460,9 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
         std::sort(sorted.begin(), sorted.end());
         const double best = ev[c].value[cv.best];
         const size_t i = std::find(sorted.begin(), sorted.end(), best) - sorted.begin();
-        if (best == 0) {
+        if (stage == 2) {
+          if (best > 0) values[c] = {best / 1.1, std::min(upperBound(cands[c]), best * 1.1)};
+        } else if (best == 0) {
           values[c].push_back(sorted[1] / 3.0);
         } else {
           values[c].push_back(i > 1 ? std::sqrt(sorted[i - 1] * best) : best / 1.7);
