@@ -198,6 +198,9 @@ BaseJoint addJointTerms(const ScopeModel& m, ScopeState& s, const HandleInput& i
   return base;
 }
 
+// The velocity of segment k's point at lever r_W from its centre: v + w x r [m/s].
+inline Vec3 pointVelocity(const ScopeState& s, int k, const Vec3& r_W) { return s.v_W[k] + s.w_W[k].cross(r_W); }
+
 // One load at a point of simulated segment k: its force and moment, and its stiffness and
 // damping (point velocity v + w x r = J u with J = [I, -[r]x]; J^T = [I; [r]x]).
 void addLoad(ScopeState& s, const ScopeLoad& load, double dt) {
@@ -205,7 +208,7 @@ void addLoad(ScopeState& s, const ScopeLoad& load, double dt) {
   double* rhs = s.rhs.data();
   const int k = load.segment;
   const Mat3 Rx = skew(load.r_W);
-  const Vec3 v_point = s.v_W[k] + s.w_W[k].cross(load.r_W);
+  const Vec3 v_point = pointVelocity(s, k, load.r_W);
   const Vec3 Kv = load.stiffness_N_per_m * v_point;
   const Vec3 torque = load.r_W.cross(load.force_N), Ktorque = load.r_W.cross(Kv);
   for (int c = 0; c < 3; ++c) {
@@ -242,7 +245,13 @@ void addLoadTerms(ScopeState& s, int simulated, double dt) {
 // the depth of the segment's distal end, up to the sphincter's stiffness: the segment
 // joins straight (d = 0: the sphincter's stiffness) and turns by 1 / (2 + ((h - d) / d)^2)
 // of the bend as it goes in: a third at d = h / 2 (k c^2 = kb), half when it is in.
-ScopeLoad sphincterLoad(const ScopeModel& m, const ScopeState& s, const HandleInput& in, int k) {
+// The ring's load on segment k, with the point's velocity at the start of the step.
+struct SphincterLoad {
+  ScopeLoad load;                    // segment -1: no straddling segment
+  Vec3 v0_m_per_s = Vec3::Zero();
+};
+
+SphincterLoad sphincterLoad(const ScopeModel& m, const ScopeState& s, const HandleInput& in, int k) {
   const Vec3 e = m.R_W_entry.col(2);
   const Mat3 P = Mat3::Identity() - e * e.transpose();
   const Vec3 kb = m.joint_stiffness_Nm_per_rad[k];  // of its proximal joint [N m/rad]
@@ -250,35 +259,36 @@ ScopeLoad sphincterLoad(const ScopeModel& m, const ScopeState& s, const HandleIn
   const double depth = std::max(in.insertion_m - k * m.h_m, 0.0);  // of its distal end [m]
   const double cap = m.params.sphincter_stiffness_N_per_m;
   const double stiffness = depth * depth * cap > bending ? bending / (depth * depth) : cap;
-  ScopeLoad ring;
-  ring.segment = k;
-  ring.r_W = ((k + 0.5) * m.h_m - in.insertion_m) * s.R_WS[k].col(2);
-  const Vec3 x = s.p_W[k] + ring.r_W;
-  const Vec3 v = s.v_W[k] + s.w_W[k].cross(ring.r_W);
-  ring.stiffness_N_per_m = stiffness * P;
-  ring.damping_Ns_per_m = m.params.joint_damping_s * stiffness * P;
-  ring.force_N = -(ring.stiffness_N_per_m * (x - m.p_W_anus) + ring.damping_Ns_per_m * v);
+  SphincterLoad ring;
+  ScopeLoad& l = ring.load;
+  l.segment = k;
+  l.r_W = ((k + 0.5) * m.h_m - in.insertion_m) * s.R_WS[k].col(2);
+  const Vec3 x = s.p_W[k] + l.r_W;
+  ring.v0_m_per_s = pointVelocity(s, k, l.r_W);
+  l.stiffness_N_per_m = stiffness * P;
+  l.damping_Ns_per_m = m.params.joint_damping_s * stiffness * P;
+  l.force_N = -(l.stiffness_N_per_m * (x - m.p_W_anus) + l.damping_Ns_per_m * ring.v0_m_per_s);
   return ring;
 }
 
 // Returns the ring's load at the start of the step (segment -1: no straddling segment).
-ScopeLoad addSphincterTerms(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int simulated,
-                            double dt) {
-  ScopeLoad ring;
-  ring.segment = -1;
+SphincterLoad addSphincterTerms(const ScopeModel& m, ScopeState& s, const HandleInput& in, int inside, int simulated,
+                                double dt) {
+  SphincterLoad ring;
+  ring.load.segment = -1;
   if (simulated <= inside) return ring;
   ring = sphincterLoad(m, s, in, simulated - 1);
-  addLoad(s, ring, dt);
+  addLoad(s, ring.load, dt);
   return ring;
 }
 
 // The ring's force over the step, as the solve took it (backward Euler, like the handle's):
 // f0 - K dt v - C (v - v0) with v the point's velocity after the step, v0 before.
-Vec3 sphincterForceOverStep(const ScopeState& s, const ScopeLoad& ring, const Vec3& v0, double dt) {
-  if (ring.segment < 0) return Vec3::Zero();
-  const int k = ring.segment;
-  const Vec3 v = s.v_W[k] + s.w_W[k].cross(ring.r_W);
-  return ring.force_N - dt * (ring.stiffness_N_per_m * v) - ring.damping_Ns_per_m * (v - v0);
+Vec3 sphincterForceOverStep(const ScopeState& s, const SphincterLoad& ring, double dt) {
+  const ScopeLoad& l = ring.load;
+  if (l.segment < 0) return Vec3::Zero();
+  const Vec3 v = pointVelocity(s, l.segment, l.r_W);
+  return l.force_N - dt * (l.stiffness_N_per_m * v) - l.damping_Ns_per_m * (v - ring.v0_m_per_s);
 }
 
 // Solve (M + dt C + dt^2 K) du = dt f - dt^2 K u on the simulated segments: a block
@@ -400,8 +410,7 @@ void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, dou
   addSegmentTerms(m, s, simulated, dt);
   const BaseJoint base = addJointTerms(m, s, in, simulated, dt);
   addLoadTerms(s, simulated, dt);
-  const ScopeLoad ring = addSphincterTerms(m, s, in, inside, simulated, dt);
-  const Vec3 ring_v0 = ring.segment < 0 ? Vec3::Zero() : Vec3(s.v_W[ring.segment] + s.w_W[ring.segment].cross(ring.r_W));
+  const SphincterLoad ring = addSphincterTerms(m, s, in, inside, simulated, dt);
   // Solve for the velocity change, integrate (with the speed limits), and read the
   // handle's reaction off the last joint.
   solveVelocityChange(s, simulated, dt);
@@ -410,7 +419,7 @@ void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, dou
   setHandleReaction(m, s, base, simulated, dt);
   // The sphincter's force over the step, which the body takes: handle.force_W
   // is what the scope exerts on the anus and the handle together.
-  s.sphincter_force_W = sphincterForceOverStep(s, ring, ring_v0, dt);
+  s.sphincter_force_W = sphincterForceOverStep(s, ring, dt);
   s.handle.force_W -= s.sphincter_force_W;
 }
 
