@@ -18,9 +18,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string effect = argv[1];
-  int index = -1;
-  for (size_t i = 0; i < organEffectNames().size(); ++i)
-    if (organEffectNames()[i] == effect) index = static_cast<int>(i);
+  const int index = organEffectIndex(effect);
   if (index < 0 && effect != "none") {
     std::fprintf(stderr, "unknown effect '%s'\n", argv[1]);
     return 2;

@@ -25,9 +25,7 @@ int main(int argc, char** argv) {
   const std::string source = argv[1];
   const double spacing_m = std::atof(argv[2]);
   const std::string effect = argv[3];
-  bool known = false;
-  for (const std::string& e : organEffectNames()) known = known || e == effect;
-  if (!known) {
+  if (organEffectIndex(effect) < 0) {
     std::fprintf(stderr, "unknown effect '%s'\n", effect.c_str());
     return 2;
   }
@@ -35,9 +33,7 @@ int main(int argc, char** argv) {
   ReplaySetup setup;
   if (source.size() > 1 && source[0] == 'h' && source.find(':') != std::string::npos) {
     const std::string hidden = source.substr(1, source.find(':') - 1);
-    int index = -1;
-    for (size_t i = 0; i < organEffectNames().size(); ++i)
-      if (organEffectNames()[i] == hidden) index = static_cast<int>(i);
+    const int index = organEffectIndex(hidden);
     if (index < 0 && hidden != "none") {
       std::fprintf(stderr, "unknown effect '%s'\n", hidden.c_str());
       return 2;

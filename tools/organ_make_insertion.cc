@@ -18,9 +18,7 @@ int main(int argc, char** argv) {
   }
   // VALUE "drawn": the magnitude (and the protocol) drawn as the tests draw them for EFFECT.
   const std::string effect = argv[2], value = argv[3];
-  int index = -1;
-  for (size_t i = 0; i < organEffectNames().size(); ++i)
-    if (value == "drawn" && organEffectNames()[i] == effect) index = static_cast<int>(i);
+  const int index = value == "drawn" ? organEffectIndex(effect) : -1;
   const bool holds = argc > 6 && argv[6][0] == 'h';
   const int stages = argc > 6 ? std::atoi(argv[6] + (holds ? 1 : 0)) : 0;
   SyntheticInsertionSpec s = drawSyntheticInsertion(std::strtoull(argv[5], nullptr, 10), index, std::atof(argv[4]),

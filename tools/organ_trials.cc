@@ -96,9 +96,7 @@ int main(int argc, char** argv) {
   }
   std::vector<int> index;
   for (const std::string& e : effects) {
-    int k = -1;
-    for (size_t i = 0; i < organEffectNames().size(); ++i)
-      if (organEffectNames()[i] == e) k = static_cast<int>(i);
+    const int k = organEffectIndex(e);
     if (k < 0 && e != "none") {
       std::fprintf(stderr, "--effects: unknown effect '%s'\n", e.c_str());
       return 2;

@@ -17,6 +17,13 @@ const std::vector<std::string>& organEffectNames() {
   return names;
 }
 
+int organEffectIndex(const std::string& effect) {
+  const std::vector<std::string>& names = organEffectNames();
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == effect) return static_cast<int>(i);
+  return -1;
+}
+
 double organEffectValue(const OrganParams& p, const std::string& e) {
   if (e == "wall_friction") return p.friction;
   if (e == "colon_bending") return p.bending_EI_Nm2;

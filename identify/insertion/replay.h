@@ -35,6 +35,8 @@ constexpr double kSoftenAc = 0.1;
 
 /// The candidate effects, in output order.
 const std::vector<std::string>& organEffectNames();
+/// The index of an effect in organEffectNames(), -1 for a name that is not one.
+int organEffectIndex(const std::string& effect);
 /// The magnitude of an effect in `p` (friction, EI, beta, b, g1, d_inf or r) and its setter.
 double organEffectValue(const OrganParams& p, const std::string& effect);
 void setOrganEffect(OrganParams& p, const std::string& effect, double value);
