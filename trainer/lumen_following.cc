@@ -31,6 +31,31 @@ std::string format(const char* fmt, double a, double b, double c, double d = 0) 
 
 }  // namespace
 
+HandleInput steerTowardsLumen(const WorldSimulation& sim, const HandleInput& cur, double lookahead_m,
+                              double max_knob_change_rad) {
+  const ScopeModel& sm = sim.model().scope;
+  const WorldState& st = sim.state();
+  HandleInput next = cur;
+  // The knobs turn the tip from the shaft behind the bending section, so the direction to
+  // the target is read in that segment's frame.
+  if (st.scope.inside <= sm.bending_joints + 1) return next;
+  const Vec3 tip = tipPosition(sm, st.scope);
+  const Vec3 target = centrelineAt(sim.model().colon, st.colon.q, sim.telemetry().tip_arclength_m + lookahead_m);
+  const Mat3& S = st.scope.R_WS[sm.bending_joints];
+  const Vec3 u = S.transpose() * (target - tip).normalized();
+  const double lateral = std::hypot(u.x(), u.y());
+  if (lateral <= 1e-9) return next;
+  const double theta = std::atan2(lateral, u.z());
+  // Within the design's knob stops.
+  const double ud_max = sm.params.knob_updown_max_rad, lr_max = sm.params.knob_leftright_max_rad;
+  const double up = std::clamp(theta * u.y() / lateral, -ud_max, ud_max);
+  const double lr = std::clamp(-theta * u.x() / lateral, -lr_max, lr_max);
+  const double dk = max_knob_change_rad;
+  next.knob_updown_rad = round4(cur.knob_updown_rad + std::clamp(up - cur.knob_updown_rad, -dk, dk));
+  next.knob_leftright_rad = round4(cur.knob_leftright_rad + std::clamp(lr - cur.knob_leftright_rad, -dk, dk));
+  return next;
+}
+
 LumenFollowing::LumenFollowing(const WorldSimulation& sim, const LumenFollowingOptions& options) : o_(options) {
   const ScopeModel& sm = sim.model().scope;
   max_in_m_ = (sm.segment_count - 1) * sm.h_m;
@@ -39,33 +64,15 @@ LumenFollowing::LumenFollowing(const WorldSimulation& sim, const LumenFollowingO
 
 Keyframe LumenFollowing::next(const WorldSimulation& sim, double t, const HandleInput& cur,
                               const std::function<void(const std::string&)>& log) {
-  const ScopeModel& sm = sim.model().scope;
-  const ColonModel& cm = sim.model().colon;
   const WorldState& st = sim.state();
   const Telemetry tel = sim.telemetry();
   const double L = cur.insertion_m, s_tip = tel.tip_arclength_m;
   history_.emplace_back(L, s_tip);
   if (history_.size() > window_) history_.pop_front();
   HandleInput next = cur;
-  // Steering: the knobs that turn the tip (from the shaft behind the bending section)
-  // towards the centreline lookahead_m ahead.
-  if (st.scope.inside > sm.bending_joints + 1) {
-    const Vec3 tip = tipPosition(sm, st.scope);
-    const Vec3 target = centrelineAt(cm, st.colon.q, s_tip + o_.lookahead_m);
-    const Mat3& S = st.scope.R_WS[sm.bending_joints];
-    const Vec3 u = S.transpose() * (target - tip).normalized();
-    const double lateral = std::hypot(u.x(), u.y());
-    if (lateral > 1e-9) {
-      const double theta = std::atan2(lateral, u.z());
-      // Within the design's knob stops.
-      const double ud_max = sm.params.knob_updown_max_rad, lr_max = sm.params.knob_leftright_max_rad;
-      const double up = std::clamp(theta * u.y() / lateral, -ud_max, ud_max);
-      const double lr = std::clamp(-theta * u.x() / lateral, -lr_max, lr_max);
-      const double dk = o_.max_knob_change_rad;
-      next.knob_updown_rad = round4(cur.knob_updown_rad + std::clamp(up - cur.knob_updown_rad, -dk, dk));
-      next.knob_leftright_rad = round4(cur.knob_leftright_rad + std::clamp(lr - cur.knob_leftright_rad, -dk, dk));
-    }
-  }
+  const HandleInput steered = steerTowardsLumen(sim, cur, o_.lookahead_m, o_.max_knob_change_rad);
+  next.knob_updown_rad = steered.knob_updown_rad;
+  next.knob_leftright_rad = steered.knob_leftright_rad;
   auto advanceAgain = [&](const char* why) {
     mode_ = kAdvance;
     history_.clear();

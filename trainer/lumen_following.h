@@ -35,6 +35,13 @@ struct LumenFollowingOptions {
   double stiffen_from_s = 0.0;    ///< [s]
 };
 
+/// The knobs that point the tip at the colon centreline lookahead_m ahead of it (towards
+/// the caecum, rest arclength), as an endoscopist steers towards the lumen: `cur` with its
+/// knobs moved by at most max_knob_change_rad each, within the design's stops, rounded to
+/// 1e-4 rad. Unchanged while the bending section is not wholly inside.
+HandleInput steerTowardsLumen(const WorldSimulation& sim, const HandleInput& cur, double lookahead_m,
+                              double max_knob_change_rad);
+
 /// Decides keyframes from the state. Call next() at t0, t0 + key_dt_s, ... with the
 /// simulation stepped (with scriptedInput over the keyframes so far) up to that time; it
 /// returns the keyframe at t + key_dt_s. Deterministic: the same states give the same

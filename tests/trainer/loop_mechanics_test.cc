@@ -24,7 +24,8 @@ Outcome untwist(double rotation_scale) {
   Scenario sc = findScenario("sigmoid_untwist");
   for (Keyframe& k : sc.script) {
     k.input.rotation_rad *= rotation_scale;
-    k.input.knob_updown_rad += 2.5;  // the tip hooked from the start
+    k.input.knob_updown_rad = 2.5;  // the tip hooked from the start (the script's steering replaced)
+    k.input.knob_leftright_rad = 0.0;
   }
   WorldSimulation sim(sc);
   Outcome o;
