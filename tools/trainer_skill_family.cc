@@ -4,7 +4,9 @@
 // the same alpha loop and scores from the same 2 s, so its family is the same), runs a family of N expert-like and N novice-like scripted sessions, the
 // same intent with perturbed timing, depth and rotation, drawn from the seed:
 //   expert: from 2 s, withdraw 12-18 cm over 6-10 s while turning clockwise 1.0-1.5 turns,
-//           hold 1.5-2.5 s, then advance 10-14 cm with the rotation held to the end (28 s);
+//           hold 1.5-2.5 s, then advance 10-14 cm with the rotation held to the end (28 s),
+//           steering the tip at the lumen with the knobs throughout, as the shipped expert
+//           untwist does (runWithLumenSteering, trainer/lumen_following.h);
 //   novice: from 2 s, push on 20-30 cm to the end, turning at most +-0.25 turn at random.
 // Each session is scored as `colosim run` scores it (the scenario's scoring, from 2 s).
 // Printed: every session's loop_time_s, peak_handle_force_N, discomfort_index,
@@ -21,6 +23,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "trainer/lumen_following.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
 #include "trainer/score.h"
@@ -67,11 +70,18 @@ std::vector<Keyframe> noviceScript(const Scenario& sc, double start_s, double en
           frame(end_s, depth0_m + push_m, twist_rad)};
 }
 
-nlohmann::json run(Scenario sc, const std::vector<Keyframe>& script) {
+// Scored as `colosim run` scores it; a steering member's knobs are decided as it runs
+// (its script then holds them).
+nlohmann::json run(Scenario sc, std::vector<Keyframe>& script, bool steer, double from_s) {
   sc.script = script;
   WorldSimulation sim(sc);
   Scorer scorer(sc.scoring);
-  for (long k = 0; k < sc.steps(); ++k) stepAndRecord(sim, scriptedInput(sc.script, k * sc.dt_s), k, scorer, nullptr);
+  if (steer) {
+    runWithLumenSteering(sc, sim, from_s, 0.5, 0.05, 0.4, [&](const WorldSimulation& s) { scorer.add(s.telemetry()); });
+    script = sc.script;
+  } else {
+    for (long k = 0; k < sc.steps(); ++k) stepAndRecord(sim, scriptedInput(sc.script, k * sc.dt_s), k, scorer, nullptr);
+  }
   return scorer.json();
 }
 
@@ -111,7 +121,7 @@ int main(int argc, char** argv) {
       std::printf("\n");
     }
     for (Member& m : family) {
-      m.scores = run(sc, m.script);
+      m.scores = run(sc, m.script, m.group == "expert", start_s);
       nlohmann::json s{{"group", m.group}, {"script", nlohmann::json::array()}};
       for (const Keyframe& k : m.script)
         s["script"].push_back({{"t_s", k.t_s}, {"insertion_m", k.input.insertion_m}, {"rotation_rad", k.input.rotation_rad}});

@@ -64,6 +64,7 @@ Telemetry ColonOnlySimulation::telemetry() const {
   t.tip_to_caecum_m = state_.q.col(model_.n - 1).norm();
   t.mesentery_stretch = mesenteryStretch(model_, state_);
   regionLengthRatios(model_, state_.q, t.region_length_ratio);
+  t.colon_stretch = colonStretch(t.region_length_ratio);
   t.region_names = &model_.region_names;
   return t;
 }

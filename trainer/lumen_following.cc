@@ -118,6 +118,48 @@ Keyframe LumenFollowing::next(const WorldSimulation& sim, double t, const Handle
   return kf;
 }
 
+long runWithLumenSteering(Scenario& sc, WorldSimulation& sim, double from_s, double key_dt_s, double lookahead_m,
+                          double max_knob_change_rad, const std::function<void(const WorldSimulation&)>& on_step) {
+  const std::vector<Keyframe> planned = sc.script;
+  // The decision times: the grid from from_s and the script's own keyframes after from_s.
+  std::vector<double> times;
+  for (long i = 1; from_s + i * key_dt_s < sc.duration_s - 1e-9; ++i) times.push_back(round4(from_s + i * key_dt_s));
+  for (const Keyframe& k : planned)
+    if (k.t_s > from_s + 1e-9 && k.t_s < sc.duration_s - 1e-9) times.push_back(k.t_s);
+  times.push_back(sc.duration_s);
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end(), [](double a, double b) { return std::abs(a - b) < 1e-9; }),
+              times.end());
+  auto onPath = [&](double t_s) {
+    Keyframe k;
+    k.t_s = t_s;
+    k.input = scriptedInput(planned, t_s);
+    k.input.insertion_m = std::round(k.input.insertion_m * 1e6) / 1e6;
+    k.input.rotation_rad = std::round(k.input.rotation_rad * 1e6) / 1e6;
+    return k;
+  };
+  sc.script.erase(std::remove_if(sc.script.begin(), sc.script.end(), [&](const Keyframe& k) { return k.t_s >= from_s; }),
+                  sc.script.end());
+  sc.script.push_back(onPath(from_s));
+  long k = 0;
+  auto stepUntil = [&](double t_s) {
+    for (const long until = std::lround(t_s / sim.dt_s()); k < until; ++k) {
+      sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
+      if (on_step) on_step(sim);
+    }
+  };
+  stepUntil(from_s);
+  for (double t : times) {
+    Keyframe kf = onPath(t);
+    const HandleInput steered = steerTowardsLumen(sim, sc.script.back().input, lookahead_m, max_knob_change_rad);
+    kf.input.knob_updown_rad = steered.knob_updown_rad;
+    kf.input.knob_leftright_rad = steered.knob_leftright_rad;
+    sc.script.push_back(kf);
+    stepUntil(t);
+  }
+  return k;
+}
+
 long runLumenFollowing(Scenario& sc, WorldSimulation& sim, double from_s, double end_s,
                        const LumenFollowingOptions& options, const LumenFollowingHooks& hooks) {
   // The script up to from_s, then a keyframe at from_s with the input in force there.

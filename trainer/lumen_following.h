@@ -42,6 +42,19 @@ struct LumenFollowingOptions {
 HandleInput steerTowardsLumen(const WorldSimulation& sim, const HandleInput& cur, double lookahead_m,
                               double max_knob_change_rad);
 
+/// Replaces the knobs of the scenario's script from `from_s` on by an endoscopist's
+/// steering (steerTowardsLumen, decided every key_dt_s from the state), keeping its
+/// insertion and rotation, stepping `sim` (built from `scenario`, at time 0) to the
+/// scenario's end: the keyframes before from_s are kept, and from from_s on there is one
+/// keyframe at every multiple of key_dt_s after from_s and at every keyframe time of the
+/// script, whose insertion and rotation are the script's there (rounded to 1e-6 m and rad)
+/// and whose knobs are decided from the state at the keyframe before. Stepped with the new
+/// script's interpolation, so the scenario replays the same run. `on_step` gets the
+/// simulation after every step. Returns the number of steps.
+long runWithLumenSteering(Scenario& scenario, WorldSimulation& sim, double from_s, double key_dt_s = 0.5,
+                          double lookahead_m = 0.05, double max_knob_change_rad = 0.4,
+                          const std::function<void(const WorldSimulation&)>& on_step = {});
+
 /// Decides keyframes from the state. Call next() at t0, t0 + key_dt_s, ... with the
 /// simulation stepped (with scriptedInput over the keyframes so far) up to that time; it
 /// returns the keyframe at t + key_dt_s. Deterministic: the same states give the same

@@ -123,6 +123,7 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
     if (sc.has("caecum_reach_m")) so.caecum_reach_m = sc.number("caecum_reach_m", 1e-3, 0.5);
     if (sc.has("excessive_wall_force_N")) so.excessive_wall_force_N = sc.number("excessive_wall_force_N", 0.0, 1e3);
     if (sc.has("episode_min_s")) so.episode_min_s = sc.number("episode_min_s", 0.0, 60.0);
+    if (sc.has("discomfort_strain")) so.discomfort_strain = sc.number("discomfort_strain", 0.0, 10.0);
     if (sc.has("discomfort_stretch")) so.discomfort_stretch = sc.number("discomfort_stretch", 0.0, 1e3);
     if (sc.has("loop_turns")) so.loop_turns = sc.number("loop_turns", 0.0, 100.0);
     if (sc.has("patch_seen_min_s")) so.patch_seen_min_s = sc.number("patch_seen_min_s", 0.0, 60.0);

@@ -42,12 +42,14 @@ void PhaseScore::add(const Telemetry& t, double dt_s, const Telemetry* prev) {
     episode_s_ = 0;
     episode_counted_ = false;
   }
-  // Discomfort from mesentery stretch.
-  peak_mesentery_stretch = std::max(peak_mesentery_stretch, t.mesentery_stretch);
-  if (t.mesentery_stretch > o_.discomfort_stretch) {
-    discomfort_index_s += (t.mesentery_stretch - o_.discomfort_stretch) * dt_s;
+  // Discomfort from the colon's stretch; the mesentery's load beside it.
+  peak_colon_stretch = std::max(peak_colon_stretch, t.colon_stretch);
+  if (t.colon_stretch > o_.discomfort_strain) {
+    discomfort_index_s += (t.colon_stretch - o_.discomfort_strain) * dt_s;
     discomfort_time_s += dt_s;
   }
+  peak_mesentery_stretch = std::max(peak_mesentery_stretch, t.mesentery_stretch);
+  if (t.mesentery_stretch > o_.discomfort_stretch) mesentery_stretch_time_s += dt_s;
   // Loops.
   max_loop_turns = std::max(max_loop_turns, std::abs(t.loop_turns));
   if (std::abs(t.loop_turns) >= o_.loop_turns) loop_time_s += dt_s;
@@ -103,7 +105,9 @@ nlohmann::json PhaseScore::json() const {
   j["excessive_pressure_time_s"] = excessive_pressure_time_s;
   j["discomfort_index"] = discomfort_index_s;
   j["discomfort_time_pct"] = pct(discomfort_time_s, duration_s);
+  j["peak_colon_stretch"] = peak_colon_stretch;
   j["peak_mesentery_stretch"] = peak_mesentery_stretch;
+  j["mesentery_stretch_time_pct"] = pct(mesentery_stretch_time_s, duration_s);
   j["loop_time_s"] = loop_time_s;
   j["max_loop_turns"] = max_loop_turns;
   j["loop_writhe_max"] = loop_writhe_max;
@@ -179,6 +183,7 @@ nlohmann::json Scorer::json() const {
   j["thresholds"] = {{"caecum_reach_m", o_.caecum_reach_m},
                      {"excessive_wall_force_N", o_.excessive_wall_force_N},
                      {"episode_min_s", o_.episode_min_s},
+                     {"discomfort_strain", o_.discomfort_strain},
                      {"discomfort_stretch", o_.discomfort_stretch},
                      {"loop_turns", o_.loop_turns},
                      {"patch_seen_min_s", o_.patch_seen_min_s},
@@ -200,8 +205,9 @@ const std::map<std::string, std::string>& Scorer::units() {
       {"wall_force_integral_Ns", "N s"}, {"shaft_movement_without_tip_progress_m", "m"},
       {"excessive_pressure_episodes", "1"},
       {"excessive_pressure_time_s", "s"},
-      {"discomfort_index", "s (time integral of mesentery stretch above the threshold)"},
-      {"discomfort_time_pct", "%"}, {"peak_mesentery_stretch", "- (lifter load / colon weight)"},
+      {"discomfort_index", "s (time integral of the colon's stretch above the threshold)"},
+      {"discomfort_time_pct", "%"}, {"peak_colon_stretch", "- (present / rest length - 1, largest region)"},
+      {"peak_mesentery_stretch", "- (lifter load / colon weight)"}, {"mesentery_stretch_time_pct", "%"},
       {"loop_time_s", "s"}, {"max_loop_turns", "turns"},
       {"loop_writhe_max", "turns (writhe)"}, {"region_length_ratio_min", "- (present / rest length)"},
       {"insertion_at_caecum_m", "m"}, {"mucosa_visualised_pct", "%"},

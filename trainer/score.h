@@ -24,9 +24,14 @@ struct ScoreOptions {
   double excessive_wall_force_N = 5.0;
   /// Excessive pressure counts as an episode when it lasts longer than this [s].
   double episode_min_s = 0.5;
-  /// Discomfort when the mesentery stretch (Telemetry::mesentery_stretch) exceeds this
-  /// [-] (tuning: the adult colon hanging at rest reaches 3.2 at the hepatic flexure,
-  /// whose attachments carry the transverse colon; 5 keeps rest out of discomfort).
+  /// Discomfort when the colon is stretched (Telemetry::colon_stretch) beyond this [-]
+  /// (tuning: 3 % longer than at rest; the adult colon hanging at rest reaches 0.7 %, at
+  /// the hepatic flexure, so rest and sag are never discomfort).
+  double discomfort_strain = 0.03;
+  /// The mesentery overloaded when its stretch (Telemetry::mesentery_stretch) exceeds this
+  /// [-] (mesentery_stretch_time_pct; tuning: the adult colon hanging at rest reaches 3.2
+  /// at the hepatic flexure, whose attachments carry the transverse colon; 5 keeps rest
+  /// out). Until session 21 this was the discomfort threshold.
   double discomfort_stretch = 5.0;
   /// A loop is present when |loop_turns| is at least this [turns].
   double loop_turns = 0.5;
@@ -67,9 +72,11 @@ class PhaseScore {
   double shaft_movement_without_tip_progress_m = 0;
   int excessive_pressure_episodes = 0;
   double excessive_pressure_time_s = 0;  ///< time above the wall force threshold [s]
-  double discomfort_index_s = 0;      ///< integral of max(0, stretch - threshold) dt [s]
-  double discomfort_time_s = 0;       ///< time with stretch above the threshold [s]
+  double discomfort_index_s = 0;      ///< integral of max(0, colon stretch - threshold) dt [s]
+  double discomfort_time_s = 0;       ///< time with the colon stretched beyond the threshold [s]
+  double peak_colon_stretch = 0;      ///< [-]
   double peak_mesentery_stretch = 0;  ///< [-]
+  double mesentery_stretch_time_s = 0;  ///< time with the mesentery stretch above discomfort_stretch [s]
   double loop_time_s = 0;             ///< time with a loop [s]
   double max_loop_turns = 0;          ///< largest |loop_turns| [turns]
   double loop_writhe_max = 0;         ///< largest |loop_writhe| [turns]

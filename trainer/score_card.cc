@@ -32,7 +32,7 @@ const RelativeMetric kRelative[] = {
     {"high_force_time_pct", "Time above 10 N at the handle", "%", true, 2.0},
     {"peak_wall_force_N", "Peak wall force", "N", true, 2.0},
     {"excessive_pressure_episodes", "Excessive-pressure episodes", "", true, 1.0},
-    {"discomfort_index", "Discomfort (mesentery stretch)", "s", true, 5.0},
+    {"discomfort_index", "Discomfort (colon stretched)", "s", true, 0.05},
     {"loop_time_s", "Time with a loop", "s", true, 1.0},
     {"max_loop_turns", "Largest loop", "turns", true, 0.25},
     {"redout_time_s", "Red-out (tip on the wall)", "s", true, 1.0},

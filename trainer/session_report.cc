@@ -106,15 +106,15 @@ std::string page(const std::string& title, const std::string& body) {
          kStyle + "</head>\n<body>\n<h1>" + html(title) + "</h1>\n" + body + "</body></html>\n";
 }
 
-// The gnuplot commands of one session's timeline (6 panels over time, the events marked
+// The gnuplot commands of one session's timeline (7 panels over time, the events marked
 // on every panel).
 std::string timelineScript(const std::string& stem, const SessionReportEntry& e) {
   const SessionTimeline& tl = e.timeline;
   const nlohmann::json& th = e.scores["thresholds"];
   std::ostringstream g;
   const double end_s = tl.samples.back().time_s;
-  g << "reset\nset terminal pngcairo noenhanced size 900,1150 font ',10'\nset output '" << stem << "_timeline.png'\n"
-    << "set multiplot layout 6,1 margins 0.1,0.98,0.05,0.97 spacing 0,0.012\nset format y '%.5g'\n"
+  g << "reset\nset terminal pngcairo noenhanced size 900,1300 font ',10'\nset output '" << stem << "_timeline.png'\n"
+    << "set multiplot layout 7,1 margins 0.1,0.98,0.05,0.97 spacing 0,0.012\nset format y '%.5g'\n"
     << "set xrange [0:" << fmt("%.6g", std::max(end_s, 1e-3)) << "]\nset grid\nset key off\n"
     << "set format x ''\n";
   int n = 1;
@@ -140,8 +140,10 @@ std::string timelineScript(const std::string& stem, const SessionReportEntry& e)
   panel(4, "wall force [N]",
         ", " + fmt("%.6g", th.value("excessive_wall_force_N", 5.0)) + " with lines dt 2 lc rgb '#c00000'");
   panel(5, "loop [turns]", "");
+  panel(8, "colon stretch [-]",
+        ", " + fmt("%.6g", th.value("discomfort_strain", 0.03)) + " with lines dt 2 lc rgb '#c07000'");
   panel(6, "mesentery stretch [-]",
-        ", " + fmt("%.6g", th.value("discomfort_stretch", 5.0)) + " with lines dt 2 lc rgb '#c07000'");
+        ", " + fmt("%.6g", th.value("discomfort_stretch", 5.0)) + " with lines dt 2 lc rgb '#a0a0a0'");
   g << "set format x '%g'\nset xlabel 'time [s]'\n";
   panel(7, "tip depth [m]", "");
   g << "unset multiplot\n";
@@ -150,11 +152,13 @@ std::string timelineScript(const std::string& stem, const SessionReportEntry& e)
 
 std::string timelineData(const SessionTimeline& tl) {
   std::ostringstream d;
-  d << "# time_s handle_force_N handle_torque_Nm wall_force_N loop_turns mesentery_stretch tip_arclength_m\n";
+  d << "# time_s handle_force_N handle_torque_Nm wall_force_N loop_turns mesentery_stretch tip_arclength_m "
+       "colon_stretch\n";
   for (const TimelineSample& s : tl.samples)
     d << fmt("%.6g", s.time_s) << ' ' << fmt("%.6g", s.handle_force_N) << ' ' << fmt("%.6g", s.handle_torque_Nm)
       << ' ' << fmt("%.6g", s.wall_force_N) << ' ' << fmt("%.6g", s.loop_turns) << ' '
-      << fmt("%.6g", s.mesentery_stretch) << ' ' << fmt("%.6g", s.tip_arclength_m) << '\n';
+      << fmt("%.6g", s.mesentery_stretch) << ' ' << fmt("%.6g", s.tip_arclength_m) << ' '
+      << fmt("%.6g", s.colon_stretch) << '\n';
   return d.str();
 }
 
@@ -208,7 +212,7 @@ std::string sessionPage(size_t i, const SessionReportEntry& e) {
     if (tl.start_s > 0)
       b << ", <span class=\"k\" style=\"background:#e4e4e4\"></span>the scenario's set-up (not scored, before "
         << fmt("%g", tl.start_s) << " s)";
-    b << ". Dashed lines: the excessive wall force and discomfort thresholds. Each point is the largest value "
+    b << ". Dashed lines: the excessive wall force, discomfort (colon stretch) and mesentery thresholds. Each point is the largest value "
          "over 50 ms.</p>\n<img src=\"" << stem << "_timeline.png\" alt=\"timelines of " << html(j.value("session", ""))
       << "\" width=\"900\">\n";
     auto list = [&](const char* name, const std::vector<TimeInterval>& v) {

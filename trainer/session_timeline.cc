@@ -34,6 +34,7 @@ void TimelineRecorder::add(const Telemetry& t) {
   keepLargest(s.wall_force_N, t.wall_force_peak_N);
   keepLargest(s.loop_turns, t.loop_turns);
   keepLargest(s.mesentery_stretch, t.mesentery_stretch);
+  keepLargest(s.colon_stretch, t.colon_stretch);
   keepLargest(s.tip_arclength_m, t.tip_arclength_m);
 
   // Events, in scored time only, by the Scorer's rules (PhaseScore::add).

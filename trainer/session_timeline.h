@@ -18,7 +18,8 @@ struct TimelineSample {
   double handle_torque_Nm = 0;   ///< [N m]
   double wall_force_N = 0;       ///< largest scope-wall contact force [N]
   double loop_turns = 0;         ///< [turns]
-  double mesentery_stretch = 0;  ///< discomfort source [-]
+  double mesentery_stretch = 0;  ///< lifter load over the colon's weight [-]
+  double colon_stretch = 0;      ///< discomfort source: present / rest length - 1, largest region [-]
   double tip_arclength_m = 0;    ///< tip depth along the colon from the anus [m]
 };
 

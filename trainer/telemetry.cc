@@ -124,4 +124,10 @@ void regionLengthRatios(const ColonModel& colon, const Points& q, std::vector<do
   for (size_t r = 0; r < regions; ++r) ratios[r] = rest_m[r] > 0 ? present_m[r] / rest_m[r] : 1.0;
 }
 
+double colonStretch(const std::vector<double>& region_length_ratios) {
+  double stretch = 0.0;
+  for (double r : region_length_ratios) stretch = std::max(stretch, r - 1.0);
+  return stretch;
+}
+
 }  // namespace colosim

@@ -31,6 +31,12 @@ struct Telemetry {
   /// colon (up to ~3 at the flexures, which also carry the free segments); more where the
   /// scope stretches them.
   double mesentery_stretch = 0.0;
+  /// The colon pulled longer than it is at rest, the discomfort source [-]: the largest,
+  /// over the anatomy's regions, of present/rest length - 1 (region_length_ratio below),
+  /// 0 when no region is longer than at rest. A loop pushed on stretches the colon between
+  /// its attachments; what hurts is that stretch of the colon and its attachments
+  /// (docs/clinical-mechanics.md, "Discomfort").
+  double colon_stretch = 0.0;
   /// Loop measure [turns]: the scope from the anus to the end of the descending colon, projected on
   /// the coronal plane, as fluoroscopy shows it; the signed turning number of the largest
   /// closed loop it makes by crossing itself (crossingLoopTurns below): +-1 for an alpha
@@ -112,5 +118,9 @@ double writheClosedFarAway(const std::vector<Vec3>& polyline_m, const Vec3& out_
 /// the chord lengths |q_{j+1} - q_j| of the region's spline segments over the sum of their
 /// rest chord lengths (ColonModel::rest_length_m). `ratios` is resized to the region count.
 void regionLengthRatios(const ColonModel& colon, const Points& q, std::vector<double>& ratios);
+
+/// The colon's stretch [-] from regionLengthRatios' ratios: the largest ratio - 1, at
+/// least 0 (Telemetry::colon_stretch).
+double colonStretch(const std::vector<double>& region_length_ratios);
 
 }  // namespace colosim

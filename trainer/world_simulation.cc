@@ -306,6 +306,7 @@ void WorldSimulation::measure() {
   t.patient_turning = turn_start_s_ >= 0;
   t.region_length_ratio.swap(region_ratio_);
   regionLengthRatios(colon, s.colon.q, t.region_length_ratio);
+  t.colon_stretch = colonStretch(t.region_length_ratio);
   t.region_names = &colon.region_names;
   t.inserted_m = s.scope.inside > 0 ? s.scope.input.insertion_m - s.scope.grip_slip_m : 0.0;
   t.patch_count = (colon.n - 1) * kPatchSectors;

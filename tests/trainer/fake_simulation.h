@@ -53,6 +53,7 @@ class FakeSimulation : public Simulation {
     t.tip_position_m = Vec3(x_, 0, 0);
     t.tip_to_caecum_m = std::abs(1.0 - x_);
     t.mesentery_stretch = 10.0 * std::abs(in_.insertion_m - x_);
+    t.colon_stretch = 0.06 * std::abs(in_.insertion_m - x_);  // past 0.03 where the stretch passes 5
     t.loop_turns = in_.rotation_rad / (2 * 3.14159265358979323846);
     t.tip_against_wall = in_.knob_updown_rad > 1.0;
     t.lumen_visible = !t.tip_against_wall;

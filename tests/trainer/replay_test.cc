@@ -66,13 +66,18 @@ TEST(Replay, ColonOnlyStartStatesAndOverrides) {
 }
 
 TEST(Replay, TheColonAloneAtRestIsNotScoredAsDiscomfort) {
-  // free_insertion starts settled; with no scope nothing stretches the mesentery beyond
-  // carrying the colon, so the discomfort threshold must not be reached.
+  // free_insertion starts settled; with no scope nothing stretches the colon or the
+  // mesentery beyond carrying the colon's weight, so neither threshold may be reached.
   const Scenario sc = findScenario("free_insertion");
   ColonOnlySimulation sim(sc);
   const RunResult r = runScenario(sc, sim, nullptr, {}, 3000);
   EXPECT_GT(r.scores["peak_mesentery_stretch"].get<double>(), 0.5);  // the lifters do carry the colon
   EXPECT_LT(r.scores["peak_mesentery_stretch"].get<double>(), sc.scoring.discomfort_stretch);
+  EXPECT_EQ(r.scores["mesentery_stretch_time_pct"].get<double>(), 0.0);
+  // The hanging colon is stretched a little by its own weight (measured 0.7 %, at the
+  // hepatic flexure), well short of the discomfort threshold (3 %).
+  EXPECT_GT(r.scores["peak_colon_stretch"].get<double>(), 0.0);
+  EXPECT_LT(r.scores["peak_colon_stretch"].get<double>(), 0.5 * sc.scoring.discomfort_strain);
   EXPECT_EQ(r.scores["discomfort_time_pct"].get<double>(), 0.0);
 }
 

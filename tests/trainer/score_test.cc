@@ -135,20 +135,24 @@ TEST(Score, InsertionAndWithdrawalAreScoredSeparately) {
 TEST(Score, LoopsDiscomfortAndView) {
   Scorer s;
   // 5 s: a loop of 1.2 turns for the first 2 s, -0.7 (the other way) for 1 s, then 0.3;
-  // stretch 8 (threshold 5) for the first 1.5 s; the tip against the wall in [1 s, 1.25 s);
-  // the lumen lost twice.
+  // the colon stretched 8 % (threshold 3 %) for the first 1.5 s, the mesentery stretched
+  // 8 (threshold 5) for the first 2.5 s; the tip against the wall in [1 s, 1.25 s); the
+  // lumen lost twice.
   feed(s, 5000, [](long k, Telemetry& t) {
     t.loop_turns = k < 2000 ? 1.2 : (k < 3000 ? -0.7 : 0.3);
-    t.mesentery_stretch = k < 1500 ? 8.0 : 1.0;
+    t.colon_stretch = k < 1500 ? 0.08 : 0.01;
+    t.mesentery_stretch = k < 2500 ? 8.0 : 1.0;
     t.tip_against_wall = k >= 1000 && k < 1250;
     t.lumen_visible = !(k >= 1000 && k < 1300) && !(k >= 4000 && k < 4100);
   });
   const nlohmann::json j = s.json();
   EXPECT_NEAR(j["loop_time_s"].get<double>(), 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(j["max_loop_turns"].get<double>(), 1.2);
-  EXPECT_NEAR(j["discomfort_index"].get<double>(), (8.0 - 5.0) * 1.5, 1e-9);
+  EXPECT_NEAR(j["discomfort_index"].get<double>(), (0.08 - 0.03) * 1.5, 1e-9);
   EXPECT_NEAR(j["discomfort_time_pct"].get<double>(), 30.0, 1e-9);
+  EXPECT_DOUBLE_EQ(j["peak_colon_stretch"].get<double>(), 0.08);
   EXPECT_DOUBLE_EQ(j["peak_mesentery_stretch"].get<double>(), 8.0);
+  EXPECT_NEAR(j["mesentery_stretch_time_pct"].get<double>(), 50.0, 1e-9);
   EXPECT_NEAR(j["redout_time_s"].get<double>(), 0.25, 1e-9);
   EXPECT_EQ(j["lumen_lost_count"].get<int>(), 2);
   EXPECT_NEAR(j["lumen_visible_pct"].get<double>(), 100.0 * (5.0 - 0.4) / 5.0, 1e-9);
