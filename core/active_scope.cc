@@ -60,18 +60,9 @@ Vec3 followTheLeaderTarget(const ScopeModel& m, const ScopeState& s, int k, doub
   return bendingOnly(leadBend(s, insertion_m / m.h_m - k));
 }
 
-Vec3 contactMinimisingTarget(const ScopeModel& m, const ScopeState& s, int k) {
-  const int n = m.params.active.contact_neighbours;
-  const Vec3 joint_W = s.p_W[k] - 0.5 * m.h_m * s.R_WS[k].col(2);  // the joint: segment k's proximal end
-  Vec3 yield_W = Vec3::Zero();  // M_d - M_p
-  for (const ScopeLoad& load : s.loads) {
-    const int j = load.segment;
-    if (j < k - n + 1 || j > k + n) continue;
-    const Vec3 moment = (s.p_W[j] + load.r_W - joint_W).cross(load.force_N);
-    yield_W += (j <= k) ? moment : Vec3(-moment);
-  }
+Vec3 contactMinimisingTarget(const ScopeModel& m, const ScopeState& s, int k, const Vec3& distal_moment_W) {
   const ActiveScopeParams& a = m.params.active;
-  const Vec3 yield = bendingOnly(s.R_WS[k + 1].transpose() * yield_W);
+  const Vec3 yield = bendingOnly(s.R_WS[k + 1].transpose() * distal_moment_W);
   const Vec3& rest = s.joint_rest_rad[k];
   return rest + (a.contact_gain / bendingStiffness(m, k)) * yield - (a.time_constant_s / a.contact_relax_s) * rest;
 }
@@ -98,14 +89,38 @@ void updateActiveScope(const ScopeModel& m, ScopeState& s, double previous_inser
   if (m.actuated_joints == 0 || s.joint_rest_rad.empty()) return;
   const ActiveScopeParams& a = m.params.active;
   recordLead(m, s, previous_insertion_m);
+  // Contact-minimising: each agent hands the loads beyond it to its proximal neighbour, as
+  // prefix sums from the tip: the total force F and moment about the origin M0 of the loads
+  // on segments 0..k give their moment about joint k, M0 - x_k x F.
+  const bool minimising = a.strategy == ActiveStrategy::kContactMinimising;
+  if (minimising) {
+    std::fill(s.segment_load_force_N.begin(), s.segment_load_force_N.end(), Vec3::Zero());
+    std::fill(s.segment_load_moment_Nm.begin(), s.segment_load_moment_Nm.end(), Vec3::Zero());
+    for (const ScopeLoad& load : s.loads) {
+      if (load.segment < 0 || load.segment >= static_cast<int>(s.segment_load_force_N.size())) continue;
+      s.segment_load_force_N[load.segment] += load.force_N;
+      s.segment_load_moment_Nm[load.segment] += (s.p_W[load.segment] + load.r_W).cross(load.force_N);
+    }
+  }
+  Vec3 distal_force_N = Vec3::Zero(), distal_moment0_Nm = Vec3::Zero();
+  for (int k = 0; k < m.first_actuated_joint && minimising; ++k) {
+    distal_force_N += s.segment_load_force_N[k];
+    distal_moment0_Nm += s.segment_load_moment_Nm[k];
+  }
   for (int k = m.first_actuated_joint; k < m.actuated_joints; ++k) {
     if (k >= s.inside) {  // outside: straight along the entry
       s.joint_rest_rad[k].setZero();
       continue;
     }
-    const Vec3 target = a.strategy == ActiveStrategy::kFollowTheLeader
-                            ? followTheLeaderTarget(m, s, k, s.input.insertion_m)
-                            : contactMinimisingTarget(m, s, k);
+    Vec3 target;
+    if (minimising) {
+      distal_force_N += s.segment_load_force_N[k];
+      distal_moment0_Nm += s.segment_load_moment_Nm[k];
+      const Vec3 joint_W = s.p_W[k] - 0.5 * m.h_m * s.R_WS[k].col(2);  // segment k's proximal end
+      target = contactMinimisingTarget(m, s, k, distal_moment0_Nm - joint_W.cross(distal_force_N));
+    } else {
+      target = followTheLeaderTarget(m, s, k, s.input.insertion_m);
+    }
     const Vec3 omega = logSO3(s.R_WS[k + 1].transpose() * s.R_WS[k]);
     s.joint_rest_rad[k] = limitActuatorMoment(actuatorLag(s.joint_rest_rad[k], target, dt, a.time_constant_s), omega,
                                               bendingStiffness(m, k), a.joint_torque_limit_Nm);

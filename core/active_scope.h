@@ -79,8 +79,12 @@ Vec3 leadBend(const ScopeState& s, double x);
 /// Follow-the-leader target of joint k at insertion insertion_m [rad] (joint frame).
 Vec3 followTheLeaderTarget(const ScopeModel& m, const ScopeState& s, int k, double insertion_m);
 
-/// Contact-minimising target of joint k from the loads in s.loads and its rest [rad] (joint frame).
-Vec3 contactMinimisingTarget(const ScopeModel& m, const ScopeState& s, int k);
+/// Contact-minimising target of joint k [rad] (joint frame) from its rest and
+/// distal_moment_W, the moment about the joint of every contact load on the segments distal
+/// of it (0..k) [N m]: turning the joint along that moment, with the shaft behind it held,
+/// moves those contacts along their forces, out of the wall (the gradient of the contact
+/// energy in the joint's angle).
+Vec3 contactMinimisingTarget(const ScopeModel& m, const ScopeState& s, int k, const Vec3& distal_moment_W);
 
 /// Samples the lead: for every j with previous_insertion_m < j h <= s.input.insertion_m the
 /// tip joint's bend (the knobs'); samples missing below the insertion (a scope placed at

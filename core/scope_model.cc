@@ -54,7 +54,7 @@ ScopeModel buildScopeModel(const ScopeParams& p, const Vec3& p_W_anus, const Vec
   if (p.active.enabled) {
     const ActiveScopeParams& a = p.active;
     if (!(a.joint_torque_limit_Nm > 0) || !(a.time_constant_s > 0) || !(a.actuated_length_m >= 0) ||
-        !std::isfinite(a.actuated_length_m) || !(a.contact_gain >= 0) || a.contact_neighbours < 0 ||
+        !std::isfinite(a.actuated_length_m) || !(a.contact_gain >= 0) ||
         !(a.contact_relax_s > 0))
       throw std::invalid_argument("scope: active joints need a positive torque limit and time constant");
     // Joint k (at (k+1) h from the tip) is actuated when it lies within the actuated length.

@@ -40,12 +40,12 @@ struct ActiveScopeParams {
   double time_constant_s = 0.05;       ///< actuator bandwidth as a first-order time constant [s]
   double actuated_length_m = 0.6;      ///< joints within this arclength from the tip are actuated [m]
   /// contact_minimising: the agent's yield rate: its rest moves at gain M / ((EI/h) tau)
-  /// for a contact moment M on its neighbourhood [-] (the actuator's lag integrates it).
+  /// for a contact moment M of the loads distal of its joint [-] (the actuator's lag
+  /// integrates it).
   double contact_gain = 1.0;
   /// contact_minimising: without contact the rest relaxes back to straight (passive) with
   /// this time constant [s].
   double contact_relax_s = 1.0;
-  int contact_neighbours = 2;  ///< contact_minimising: segments each side of a joint whose contacts it sees
 };
 
 /// A variable-stiffness section (issue 20; Olympus ScopeGuide / Innovex variable-stiffness

@@ -26,6 +26,8 @@ ScopeState makeScopeState(const ScopeModel& m, int load_capacity) {
     s.joint_rest_rad.assign(K, Vec3::Zero());
     s.lead_bend_rad.assign(K, Vec3::Zero());
     s.lead_count = 1;  // the tip at the anus, along the entry
+    s.segment_load_force_N.assign(K, Vec3::Zero());
+    s.segment_load_moment_Nm.assign(K, Vec3::Zero());
   }
   s.start.p_W = s.p_W;
   s.start.R_WS = s.R_WS;

@@ -82,6 +82,9 @@ struct ScopeState {
   int lead_count = 0;
 
   // Scratch, sized by makeScopeState() so that the step allocates nothing.
+  /// Active contact-minimising scope: per segment, the sum of its contact forces [N] and of
+  /// their moments about the patient frame's origin [N m] (updateActiveScope).
+  std::vector<Vec3> segment_load_force_N, segment_load_moment_Nm;
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;

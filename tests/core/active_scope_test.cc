@@ -185,33 +185,54 @@ double pressedOnAWall(const ScopeModel& m, ScopeState& s, const std::function<vo
   return sum / summed;
 }
 
-// DISABLED: the contact-minimising agents do not lower the wall force here (issue 20).
-// Averaged over the hold, the force is the passive one or more at every setting tried
-// (passive 0.134 N; time constant 0.02 / 0.05 / 0.2 s x gain 0.5 / 1 / 2 / 5: 0.134 to
-// 0.433 N, rising with the gain; at 0.02 s and gain 5 the scope flails on and off the
-// wall). The test first read the force at the last step only, which the flailing scope
-// happened to leave off the wall (0.000 N): that figure is withdrawn (docs/active-scope.md).
-TEST(ActiveScope, DISABLED_ContactMinimisingLowersTheWallForce) {
+// The contact-minimising agents against a wall the scope is pushed along (issue 20): each
+// joint yields to the moment of the loads distal of it, so the scope bends away from the
+// wall ahead of the contact instead of being bent by it. Over every agent setting tried
+// in session 19 (time constant 0.02 / 0.05 / 0.2 s x gain 0.5 / 1 / 2 / 5), the wall force
+// averaged over the hold falls below half the passive scope's (measured 0.000-0.056 N
+// against 0.130 N). The agents relax towards straight without contact (1 s), so the scope
+// taps the wall now and then: its largest force over the hold reaches 0.37 N at 0.02 s
+// and gain 1 (passive 0.148 N); bounded here by 3x the passive's, where the rule session 19
+// had flailed to 1.9 N. That rule (each joint's own neighbourhood, distal minus proximal
+// moments) never lowered the average (0.134-0.433 N).
+TEST(ActiveScope, ContactMinimisingLowersTheWallForce) {
   // A scope whose steerable tip is one joint: the wall meets the actuated part.
+  // The largest total wall force over the hold (after the first 1500 steps).
+  auto largestOverTheHold = [](int& step, double& largest_N) {
+    return [&step, &largest_N](const ScopeState& st) {
+      if (++step <= 1500) return;
+      double total = 0;
+      for (const ScopeLoad& l : st.loads) total += l.force_N.norm();
+      largest_N = std::max(largest_N, total);
+    };
+  };
   const ScopeModel passive = scope(ActiveScopeParams(), Vec3::Zero(), 0.015);
   ScopeState p = makeScopeState(passive);
-  const double f_passive = pressedOnAWall(passive, p);
-  const double limit = 0.5;
-  // A fast, eager agent (tau 20 ms, gain 5: it yields 125 rad per N m of contact moment at
-  // steady state).
-  ActiveScopeParams eager = active(ActiveStrategy::kContactMinimising, 0.02, limit);
-  eager.contact_gain = 5.0;
-  const ScopeModel cm = scope(eager, Vec3::Zero(), 0.015);
-  ScopeState a = makeScopeState(cm);
-  double worst_moment = 0;
-  const double f_active = pressedOnAWall(cm, a, [&](const ScopeState& st) {
-    for (int k = cm.first_actuated_joint; k < std::min(cm.actuated_joints, st.inside); ++k)
-      worst_moment = std::max(worst_moment, actuatorMoment(cm, st, k));
-  });
-  std::printf("wall force over the hold: passive %.3f N, contact-minimising %.3f N\n", f_passive, f_active);
+  int passive_step = 0;
+  double passive_largest_N = 0;
+  const double f_passive = pressedOnAWall(passive, p, largestOverTheHold(passive_step, passive_largest_N));
   EXPECT_GT(f_passive, 0.1);  // the scope is pressed on the wall
-  EXPECT_LT(f_active, 0.8 * f_passive);
-  EXPECT_LE(worst_moment, limit * (1 + 1e-9));
+  const double limit = 0.5;
+  for (double tau : {0.02, 0.05, 0.2})
+    for (double gain : {0.5, 1.0, 2.0, 5.0}) {
+      ActiveScopeParams agents = active(ActiveStrategy::kContactMinimising, tau, limit);
+      agents.contact_gain = gain;
+      const ScopeModel cm = scope(agents, Vec3::Zero(), 0.015);
+      ScopeState a = makeScopeState(cm);
+      double worst_moment = 0, largest_N = 0;
+      int step = 0;
+      const auto largest = largestOverTheHold(step, largest_N);
+      const double f_active = pressedOnAWall(cm, a, [&](const ScopeState& st) {
+        for (int k = cm.first_actuated_joint; k < std::min(cm.actuated_joints, st.inside); ++k)
+          worst_moment = std::max(worst_moment, actuatorMoment(cm, st, k));
+        largest(st);
+      });
+      std::printf("tau %.2f s, gain %.1f: wall force over the hold %.4f N (largest %.4f N); passive %.4f N (%.4f N)\n",
+                  tau, gain, f_active, largest_N, f_passive, passive_largest_N);
+      EXPECT_LT(f_active, 0.5 * f_passive) << "tau " << tau << " gain " << gain;
+      EXPECT_LT(largest_N, 3 * passive_largest_N) << "tau " << tau << " gain " << gain;
+      EXPECT_LE(worst_moment, limit * (1 + 1e-9));
+    }
 }
 
 TEST(ActiveScope, TwoRunsAreBitIdentical) {
