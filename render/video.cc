@@ -1,5 +1,7 @@
 #include "render/video.h"
 
+#include <cstring>
+#include <vector>
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -46,6 +48,10 @@ struct VideoEncoder::Impl {
   AVFrame* frame = nullptr;
   AVPacket* packet = nullptr;
   SwsContext* sws = nullptr;
+  /// The frame's RGBA copied into rows padded to 64 bytes, with a zeroed row before and
+  /// after: the converter's vector code may read a little beyond a row or the image.
+  std::vector<uint8_t> rgba;
+  int rgba_stride = 0;
 
   [[noreturn]] void fail(const std::string& what, int code = 0) const {
     throw std::runtime_error(path + ": " + what + (code ? " (" + avError(code) + ")" : std::string()));
@@ -143,6 +149,10 @@ VideoEncoder::VideoEncoder(const std::string& path, int width_px, int height_px,
   v.frame->height = height_px;
   rc = av_frame_get_buffer(v.frame, 0);
   if (rc < 0) v.fail("cannot allocate a frame", rc);
+  // The planes' padding beyond the width is never written by the conversion: zeroed so
+  // that nothing the encoder may read there differs from run to run.
+  for (int p = 0; p < 3; ++p)
+    std::memset(v.frame->data[p], 0, static_cast<size_t>(v.frame->linesize[p]) * (p == 0 ? height_px : (height_px + 1) / 2));
   v.sws = sws_getContext(width_px, height_px, AV_PIX_FMT_RGBA, width_px, height_px, AV_PIX_FMT_YUV420P,
                          SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT, nullptr, nullptr, nullptr);
   if (!v.sws) v.fail("cannot convert RGBA to YUV");
@@ -165,8 +175,15 @@ void VideoEncoder::add(const Image& image) {
            std::to_string(v.width) + "x" + std::to_string(v.height) + " px");
   int rc = av_frame_make_writable(v.frame);
   if (rc < 0) v.fail("cannot write the frame", rc);
-  const uint8_t* src[1] = {image.rgba.data()};
-  const int stride[1] = {4 * image.width};
+  const size_t row = 4 * static_cast<size_t>(image.width);
+  if (v.rgba.empty()) {
+    v.rgba_stride = static_cast<int>((row + 63) / 64 * 64);
+    v.rgba.assign(static_cast<size_t>(v.rgba_stride) * (image.height + 2), 0);
+  }
+  for (int y = 0; y < image.height; ++y)
+    std::memcpy(v.rgba.data() + static_cast<size_t>(v.rgba_stride) * (y + 1), image.rgba.data() + row * y, row);
+  const uint8_t* src[1] = {v.rgba.data() + v.rgba_stride};
+  const int stride[1] = {v.rgba_stride};
   sws_scale(v.sws, src, stride, 0, image.height, v.frame->data, v.frame->linesize);
   v.frame->pts = frames_++;
   v.encode(v.frame);
