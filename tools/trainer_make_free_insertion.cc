@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trainer/handle_io.h"
 #include "trainer/lumen_following.h"
 #include "trainer/scenario.h"
 #include "trainer/world_simulation.h"
@@ -77,9 +78,11 @@ int main(int argc, char** argv) {
   nlohmann::json j = nlohmann::json::parse(in);
   j["duration_s"] = sc.script.back().t_s;
   nlohmann::json script = nlohmann::json::array();
-  for (const Keyframe& f : sc.script)
-    script.push_back({{"t_s", f.t_s}, {"insertion_m", f.input.insertion_m}, {"rotation_rad", f.input.rotation_rad},
-                      {"knob_updown_rad", f.input.knob_updown_rad}, {"knob_leftright_rad", f.input.knob_leftright_rad}});
+  for (const Keyframe& f : sc.script) {
+    nlohmann::json k = {{"t_s", f.t_s}};
+    writeHandleInput(k, f.input);  // stiffness_level too, when the controller sets it
+    script.push_back(k);
+  }
   j["script"] = script;
   std::ofstream(argv[2]) << j.dump(1) << "\n";
   return 0;

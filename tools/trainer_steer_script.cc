@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "trainer/handle_io.h"
 #include "trainer/lumen_following.h"
 #include "trainer/scenario.h"
 #include "trainer/world_simulation.h"
@@ -49,8 +50,10 @@ int main(int argc, char** argv) {
   nlohmann::ordered_json j = nlohmann::ordered_json::parse(in);
   nlohmann::ordered_json out = nlohmann::ordered_json::array();
   for (const Keyframe& f : script) {
-    nlohmann::ordered_json k = {{"t_s", f.t_s}, {"insertion_m", f.input.insertion_m}, {"rotation_rad", f.input.rotation_rad},
-                        {"knob_updown_rad", f.input.knob_updown_rad}, {"knob_leftright_rad", f.input.knob_leftright_rad}};
+    nlohmann::json input;
+    writeHandleInput(input, f.input);  // stiffness_level too, when the script sets it
+    nlohmann::ordered_json k = {{"t_s", f.t_s}};
+    for (const auto& [key, value] : input.items()) k[key] = value;
     for (const nlohmann::ordered_json& o : j["script"])  // the original keyframes' notes
       if (o.contains("note") && std::abs(o["t_s"].get<double>() - f.t_s) < 1e-9) k["note"] = o["note"];
     out.push_back(k);
