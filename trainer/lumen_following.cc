@@ -31,8 +31,8 @@ std::string format(const char* fmt, double a, double b, double c, double d = 0) 
 
 }  // namespace
 
-HandleInput steerTowardsLumen(const WorldSimulation& sim, const HandleInput& cur, double lookahead_m,
-                              double max_knob_change_rad) {
+HandleInput steerTowardsLumen(const WorldSimulation& sim, double tip_arclength_m, const HandleInput& cur,
+                              double lookahead_m, double max_knob_change_rad) {
   const ScopeModel& sm = sim.model().scope;
   const WorldState& st = sim.state();
   HandleInput next = cur;
@@ -40,7 +40,7 @@ HandleInput steerTowardsLumen(const WorldSimulation& sim, const HandleInput& cur
   // the target is read in that segment's frame.
   if (st.scope.inside <= sm.bending_joints + 1) return next;
   const Vec3 tip = tipPosition(sm, st.scope);
-  const Vec3 target = centrelineAt(sim.model().colon, st.colon.q, sim.telemetry().tip_arclength_m + lookahead_m);
+  const Vec3 target = centrelineAt(sim.model().colon, st.colon.q, tip_arclength_m + lookahead_m);
   const Mat3& S = st.scope.R_WS[sm.bending_joints];
   const Vec3 u = S.transpose() * (target - tip).normalized();
   const double lateral = std::hypot(u.x(), u.y());
@@ -70,7 +70,7 @@ Keyframe LumenFollowing::next(const WorldSimulation& sim, double t, const Handle
   history_.emplace_back(L, s_tip);
   if (history_.size() > window_) history_.pop_front();
   HandleInput next = cur;
-  const HandleInput steered = steerTowardsLumen(sim, cur, o_.lookahead_m, o_.max_knob_change_rad);
+  const HandleInput steered = steerTowardsLumen(sim, s_tip, cur, o_.lookahead_m, o_.max_knob_change_rad);
   next.knob_updown_rad = steered.knob_updown_rad;
   next.knob_leftright_rad = steered.knob_leftright_rad;
   auto advanceAgain = [&](const char* why) {
@@ -151,7 +151,8 @@ long runWithLumenSteering(Scenario& sc, WorldSimulation& sim, double from_s, dou
   stepUntil(from_s);
   for (double t : times) {
     Keyframe kf = onPath(t);
-    const HandleInput steered = steerTowardsLumen(sim, sc.script.back().input, lookahead_m, max_knob_change_rad);
+    const HandleInput steered =
+        steerTowardsLumen(sim, sim.telemetry().tip_arclength_m, sc.script.back().input, lookahead_m, max_knob_change_rad);
     kf.input.knob_updown_rad = steered.knob_updown_rad;
     kf.input.knob_leftright_rad = steered.knob_leftright_rad;
     sc.script.push_back(kf);

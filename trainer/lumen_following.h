@@ -36,11 +36,12 @@ struct LumenFollowingOptions {
 };
 
 /// The knobs that point the tip at the colon centreline lookahead_m ahead of it (towards
-/// the caecum, rest arclength), as an endoscopist steers towards the lumen: `cur` with its
+/// the caecum, rest arclength; tip_arclength_m: the telemetry's, where the tip is along the
+/// colon now [m]), as an endoscopist steers towards the lumen: `cur` with its
 /// knobs moved by at most max_knob_change_rad each, within the design's stops, rounded to
 /// 1e-4 rad. Unchanged while the bending section is not wholly inside.
-HandleInput steerTowardsLumen(const WorldSimulation& sim, const HandleInput& cur, double lookahead_m,
-                              double max_knob_change_rad);
+HandleInput steerTowardsLumen(const WorldSimulation& sim, double tip_arclength_m, const HandleInput& cur,
+                              double lookahead_m, double max_knob_change_rad);
 
 /// Replaces the knobs of the scenario's script from `from_s` on by an endoscopist's
 /// steering (steerTowardsLumen, decided every key_dt_s from the state), keeping its
