@@ -156,6 +156,8 @@ VideoEncoder::VideoEncoder(const std::string& path, int width_px, int height_px,
   v.sws = sws_getContext(width_px, height_px, AV_PIX_FMT_RGBA, width_px, height_px, AV_PIX_FMT_YUV420P,
                          SWS_BICUBIC | SWS_ACCURATE_RND | SWS_BITEXACT, nullptr, nullptr, nullptr);
   if (!v.sws) v.fail("cannot convert RGBA to YUV");
+  v.rgba_stride = (4 * width_px + 63) / 64 * 64;
+  v.rgba.assign(static_cast<size_t>(v.rgba_stride) * (height_px + 2), 0);
 
   rc = avio_open(&v.format->pb, path.c_str(), AVIO_FLAG_WRITE);
   if (rc < 0) v.fail("cannot open the file for writing", rc);
@@ -176,10 +178,6 @@ void VideoEncoder::add(const Image& image) {
   int rc = av_frame_make_writable(v.frame);
   if (rc < 0) v.fail("cannot write the frame", rc);
   const size_t row = 4 * static_cast<size_t>(image.width);
-  if (v.rgba.empty()) {
-    v.rgba_stride = static_cast<int>((row + 63) / 64 * 64);
-    v.rgba.assign(static_cast<size_t>(v.rgba_stride) * (image.height + 2), 0);
-  }
   for (int y = 0; y < image.height; ++y)
     std::memcpy(v.rgba.data() + static_cast<size_t>(v.rgba_stride) * (y + 1), image.rgba.data() + row * y, row);
   const uint8_t* src[1] = {v.rgba.data() + v.rgba_stride};
