@@ -159,6 +159,22 @@ ColonModel buildColonModel(const Anatomy& anatomy, const ColonParams& params,
     m.segment_c_Ns_per_m2(j) = mc.damping_Ns_per_m2;
   }
 
+  // Haustral folds: the control point nearest each fold, outside the rectum and not next to it.
+  m.smooth_radius_m = m.radius_m;
+  if (!(params.haustral_fold_depth >= 0) || !(params.haustral_fold_depth < 1) || !(params.haustral_fold_period_m > 0))
+    throw std::invalid_argument("haustral_fold_depth must be in [0, 1) and haustral_fold_period_m > 0");
+  if (params.haustral_fold_depth > 0) {
+    auto in_rectum = [&m](int j) {
+      return j >= 0 && j + 1 < m.n && m.region_names[m.segment_region[j]] == "rectum";
+    };
+    const double spacing = m.length_m() / (m.n - 1);
+    for (int f = 1; f * params.haustral_fold_period_m < m.length_m(); ++f) {
+      const int k = static_cast<int>(std::lround(f * params.haustral_fold_period_m / spacing));
+      if (k <= 0 || k >= m.n - 1 || in_rectum(k - 1) || in_rectum(k)) continue;
+      m.radius_m(k) = (1 - params.haustral_fold_depth) * m.smooth_radius_m(k);
+    }
+  }
+
   m.mass_per_length_kg_per_m = params.mass_per_length_kg_per_m;
   if (!(params.bending_EI_Nm2 >= 0) || !(params.mesentery_stiffening_per_m2 >= 0))
     throw std::invalid_argument("bending_EI_Nm2 and mesentery_stiffening_per_m2 must be >= 0");

@@ -60,6 +60,12 @@ struct ColonParams {
   /// the colon: it holds the colon from moving away from its root far harder than from
   /// sliding along its own length. 1 is the paper's isotropic lifter (eq. 4) [-], in [0, 1].
   double mesentery_axial_ratio = 1.0;
+  /// Haustral folds in the contact wall (not in the paper): the lumen's radius at the
+  /// control point nearest each fold (every haustral_fold_period_m of rest arclength from
+  /// the anus, outside the rectum) is narrowed by this fraction, so that the wall the scope
+  /// and the colon touch has the ridges the renderer draws. 0 is the paper's smooth tube [-].
+  double haustral_fold_depth = 0.0;
+  double haustral_fold_period_m = 0.03;  ///< rest arclength between two folds [m]
 };
 
 /// Gravity vector in the patient frame for a named position [m/s^2]; throws
@@ -74,7 +80,8 @@ struct ColonModel {
   int n = 0;                        ///< number of control points
   Points q_rest;                    ///< rest positions q0 (3 x n) [m]
   Eigen::VectorXd s_rest_m;         ///< rest arclength at each control point (n) [m]
-  Eigen::VectorXd radius_m;         ///< lumen radius at each control point (n) [m]
+  Eigen::VectorXd radius_m;         ///< lumen radius at each control point (n), at the wall the contacts see: narrowed at haustral folds [m]
+  Eigen::VectorXd smooth_radius_m;  ///< the anatomy's lumen radius at each control point (n), without the folds (the renderer draws its own) [m]
   Eigen::VectorXd segment_length_m; ///< rest arclength of each spline segment (n-1) [m]
   Eigen::VectorXd rest_length_m;    ///< rest chord length of each tension element (n-1) [m]
   std::vector<int> segment_region;  ///< region index of each spline segment (n-1)
@@ -125,6 +132,11 @@ struct ColonModel {
   /// Lumen radius at (segment, p), linear between control points [m].
   double radiusAt(int segment, double p) const {
     return (1 - p) * radius_m(segment) + p * radius_m(segment + 1);
+  }
+  /// The anatomy's lumen radius at (segment, p) without the haustral folds, linear [m].
+  double smoothRadiusAt(int segment, double p) const {
+    const Eigen::VectorXd& r = smooth_radius_m.size() == n ? smooth_radius_m : radius_m;
+    return (1 - p) * r(segment) + p * r(segment + 1);
   }
   /// Rest arclength at (segment, p), linear in p within the segment [m].
   double arclengthAt(int segment, double p) const {

@@ -83,7 +83,7 @@ void sampleColonRings(const ColonModel& model, const Points& q, const TubeOption
     const double p = static_cast<double>(k - j * S) / S;
     rings.centre_m[k] = splinePoint(q, j, p);
     rings.tangent[k] = splineTangent(q, j, p);
-    rings.radius_m[k] = model.radiusAt(j, p);
+    rings.radius_m[k] = model.smoothRadiusAt(j, p);  // the renderer draws the folds itself
     rings.s_rest_m[k] = model.arclengthAt(j, p);
   }
   // Distance in rest arclength to the nearest rectum segment, by two sweeps over rings.

@@ -87,6 +87,11 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   // Optional (files written before it: the paper's isotropic lifters, 1).
   if (colon.has("mesentery_axial_ratio"))
     c.mesentery_axial_ratio = colon.quantity("mesentery_axial_ratio", "1", 0.0, 1.0);
+  // Optional (files written before it: the paper's smooth tube, 0).
+  if (colon.has("haustral_fold_depth"))
+    c.haustral_fold_depth = colon.quantity("haustral_fold_depth", "1", 0.0, 0.9);
+  if (colon.has("haustral_fold_period"))
+    c.haustral_fold_period_m = colon.quantity("haustral_fold_period", "m", 0.005, 1.0);
   // An identified tension law (optional; trainer/tension_law_file.h): its EA and EC must be
   // the ones above, so that the file states one axial stiffness.
   if (colon.has("tension_law")) {

@@ -1,5 +1,7 @@
 #include "core/colon_model.h"
 
+#include <vector>
+
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
@@ -109,6 +111,33 @@ TEST(ColonModel, GravityFollowsThePatientPosition) {
   EXPECT_EQ(gravityForPosition("supine", 9.81), Vec3(0, 9.81, 0));  // LPS: y posterior
   EXPECT_EQ(gravityForPosition("right_lateral", 9.81), Vec3(-9.81, 0, 0));
   EXPECT_THROW(gravityForPosition("standing", 9.81), std::invalid_argument);
+}
+
+// Haustral folds (issue 21, pleating): the contact wall narrowed by the fold depth at the
+// control point nearest each fold, every fold period of rest arclength, never in or next to
+// the rectum; the anatomy's radius kept beside it for the renderer, which draws its own folds.
+TEST(ColonModel, HaustralFoldsNarrowTheWallEveryPeriodOutsideTheRectum) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  p.colon.haustral_fold_depth = 0.25;
+  const ColonModel folded = loadColonModel(test::asset("anatomy/adult_pelvic_rectum.json"), p);
+  p.colon.haustral_fold_depth = 0.0;
+  const ColonModel smooth = loadColonModel(test::asset("anatomy/adult_pelvic_rectum.json"), p);
+  EXPECT_EQ(folded.smooth_radius_m, smooth.radius_m);
+  EXPECT_EQ(smooth.radius_m, smooth.smooth_radius_m);
+  std::vector<double> fold_s;
+  for (int k = 0; k < folded.n; ++k) {
+    if (folded.radius_m(k) == folded.smooth_radius_m(k)) continue;
+    EXPECT_NEAR(folded.radius_m(k), (1 - 0.25) * folded.smooth_radius_m(k), 1e-15);
+    for (int j : {k - 1, k})
+      EXPECT_NE(folded.region_names[folded.segment_region[j]], "rectum") << "control point " << k;
+    fold_s.push_back(folded.s_rest_m(k));
+  }
+  ASSERT_GT(fold_s.size(), 40u);
+  const double spacing = folded.length_m() / (folded.n - 1);
+  for (size_t i = 1; i < fold_s.size(); ++i)
+    EXPECT_NEAR(fold_s[i] - fold_s[i - 1], p.colon.haustral_fold_period_m, spacing + 1e-9) << "fold " << i;
+  // Outside the rectum no stretch longer than a period goes without a fold.
+  EXPECT_LT(fold_s.back(), folded.length_m());
 }
 
 }  // namespace

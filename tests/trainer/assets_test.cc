@@ -97,6 +97,20 @@ TEST(Assets, CompressionStiffnessFractionIsOptionalAndWithinZeroToOne) {
   EXPECT_EQ(loadParameters(old).colon.compression_stiffness_fraction, 1.0);
 }
 
+TEST(Assets, HaustralFoldsAreOptionalAndWithinRange) {
+  test::TempDir dir;
+  EXPECT_EQ(loadParameters(test::asset("params/default.json")).colon.haustral_fold_depth, 0.0);  // absent: a smooth tube
+  const std::string key = "\"colon\": {";
+  const std::string ok = dir.write("ok.json", paramsWith(key, "\"colon\": {\"haustral_fold_depth\": {\"value\": 0.25, \"unit\": \"1\", \"source\": \"test\"}, "
+                                                                "\"haustral_fold_period\": {\"value\": 0.04, \"unit\": \"m\", \"source\": \"test\"},"));
+  EXPECT_EQ(loadParameters(ok).colon.haustral_fold_depth, 0.25);
+  EXPECT_EQ(loadParameters(ok).colon.haustral_fold_period_m, 0.04);
+  const std::string f = dir.write("p.json", paramsWith(key, "\"colon\": {\"haustral_fold_depth\": {\"value\": 0.95, \"unit\": \"1\", \"source\": \"test\"},"));
+  expectInputError([&] { loadParameters(f); }, {f, "colon.haustral_fold_depth.value", "out of range"});
+  const std::string g = dir.write("g.json", paramsWith(key, "\"colon\": {\"haustral_fold_period\": {\"value\": 0, \"unit\": \"m\", \"source\": \"test\"},"));
+  expectInputError([&] { loadParameters(g); }, {g, "colon.haustral_fold_period.value", "out of range"});
+}
+
 // contact.wall_reference_slice_length is optional (the shipped files leave it out: 1.5 cm,
 // their segment length) and within [0, 0.1] m.
 TEST(Assets, WallReferenceSliceLengthIsOptionalAndInRange) {
