@@ -56,7 +56,7 @@ TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
 
 
 // Pleating (issue 21): the colon gathered onto the scope by a hooked withdrawal.
-// free_insertion's script to 30 s (the tip at the far end of the sigmoid), then the up knob
+// free_insertion's script to 28 s (the tip near the far end of the sigmoid), then the up knob
 // to 2.5 rad over 1 s and 15 cm withdrawn over 8 s, held 3 s. On a candidate patient: the
 // one patient (default.json) with the haustral folds in the contact wall (depth 0.25, the
 // renderer's) and a colon that pleats under axial compression (compression fraction 0.05).
@@ -67,11 +67,12 @@ struct Withdrawal {
   double sigmoid_before = 0;  ///< present/rest length of the sigmoid when the hook is set [-]
   double sigmoid_least = 0;   ///< its least during the withdrawal and hold [-]
   double tip_back_m = 0;      ///< how far the tip slid back along the colon (rest arclength) [m]
+  int limited_steps = 0;      ///< steps in which a solver or contact force limit engaged
 };
 
 Withdrawal hookedWithdrawal(double fold_depth, double compression_fraction) {
   Scenario sc = findScenario("free_insertion");
-  const double t0 = 30.0;
+  const double t0 = 28.0;
   std::vector<Keyframe> script;
   for (const Keyframe& k : sc.script)
     if (k.t_s <= t0) script.push_back(k);
@@ -107,6 +108,7 @@ Withdrawal hookedWithdrawal(double fold_depth, double compression_fraction) {
       tip_at_hook = t.tip_arclength_m;
     }
     w.sigmoid_least = std::min(w.sigmoid_least, t.region_length_ratio[sigmoid]);
+    if (t.solver_limited > 0) ++w.limited_steps;
   }
   w.tip_back_m = tip_at_hook - sim.telemetry().tip_arclength_m;
   return w;
@@ -114,12 +116,16 @@ Withdrawal hookedWithdrawal(double fold_depth, double compression_fraction) {
 
 TEST(Pleating, AHookedWithdrawalGathersTheSigmoidOntoTheScope) {
   const Withdrawal folds = hookedWithdrawal(0.25, 0.05), smooth = hookedWithdrawal(0.0, 0.05);
-  std::printf("sigmoid present/rest: folds %.3f -> least %.3f, tip back %.3f m; smooth tube %.3f -> %.3f, tip back %.3f m\n",
-              folds.sigmoid_before, folds.sigmoid_least, folds.tip_back_m, smooth.sigmoid_before, smooth.sigmoid_least,
-              smooth.tip_back_m);
+  std::printf("sigmoid present/rest: folds %.3f -> least %.3f, tip back %.3f m, %d limited steps; smooth tube %.3f -> "
+              "%.3f, tip back %.3f m\n",
+              folds.sigmoid_before, folds.sigmoid_least, folds.tip_back_m, folds.limited_steps, smooth.sigmoid_before,
+              smooth.sigmoid_least, smooth.tip_back_m);
+  // The gathering must not stand on a clamped force (from 30 s instead of 28 s a threading
+  // contact flickers in for one step past the 20 N limit: docs/clinical-mechanics.md).
+  EXPECT_EQ(folds.limited_steps, 0);
   EXPECT_LT(folds.sigmoid_least, 0.8) << "the issue's pleating: below 80 % of its rest length";
   EXPECT_LT(folds.tip_back_m, 0.05) << "the hooked tip holds: it slides back less than a third of the 15 cm";
-  EXPECT_GT(smooth.tip_back_m, 0.08) << "on a smooth tube the hook slides back";
+  EXPECT_GT(smooth.tip_back_m, 0.05) << "on a smooth tube the hook slides back more than a third of the 15 cm";
   EXPECT_GT(smooth.sigmoid_least, folds.sigmoid_least + 0.1);
 }
 
