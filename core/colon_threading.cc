@@ -34,10 +34,7 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
             const Vec3 y = ca + u * ab;
             const Vec3 d = y - q;
             const double e = d.norm();
-            // Against the anatomy's wall, not a haustral fold's crest: behind a fold
-            // lies the lumen between folds, which does not push back.
-            const double r_wall = m.colon.smooth_radius_m.size() == n ? m.colon.smooth_radius_m(i) : m.colon.radius_m(i);
-            const double depth = e - (r_wall + behind_m);
+            const double depth = e - (m.colon.radius_m(i) + behind_m);
             if (!(depth > 0)) continue;
             WallContact c;
             c.scope_segment = u < 0.5 ? prev_k : k;

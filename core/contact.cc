@@ -28,13 +28,7 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
   for (WallContact& c : contacts) {
     const double w = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
     const double k_wall = w * P.wall_stiffness_N_per_m, c_wall = w * P.wall_damping_Ns_per_m;
-    // > 0: pressed through the wall's thickness. A haustral fold (ColonParams) is a soft
-    // ridge inside the lumen: what lies behind the wall starts beyond the anatomy's radius,
-    // so the fold's height is pressed flat before the backing engages.
-    const double fold_m = c.colon_segment >= 0 && c.colon_segment + 1 < colon.n
-                              ? colon.smoothRadiusAt(c.colon_segment, c.p) - colon.radiusAt(c.colon_segment, c.p)
-                              : 0.0;
-    const double backed_m = c.depth_m - P.wall_thickness_m - fold_m;
+    const double backed_m = c.depth_m - P.wall_thickness_m;  // > 0: pressed through the wall's thickness
     const double k_back = backed_m > 0 ? w * P.wall_backing_stiffness_N_per_m : 0.0;
     const double max_force_N = w * P.max_point_force_N;
     const int k = c.scope_segment;

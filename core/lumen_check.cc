@@ -22,7 +22,7 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
   const int slices = scope.params.slices_per_segment;
   const double slice_length_m = scope.h_m / slices;
   auto beyondWall = [&](const Vec3& x, const WallTrack& t) {
-    return (x - splinePoint(s.colon.q, t.colon_segment, t.p)).norm() - colon.smoothRadiusAt(t.colon_segment, t.p);
+    return (x - splinePoint(s.colon.q, t.colon_segment, t.p)).norm() - colon.radiusAt(t.colon_segment, t.p);
   };
   // The track is the step's start one: where the scope slides along a taper it can lag
   // the slice by a segment end (the tip 0.1 mm beyond the wall at its track, inside at the
@@ -33,7 +33,7 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
   auto insideNear = [&](const Vec3& x, int j) {
     for (int jj = std::max(0, j - 1); jj <= std::min(colon.n - 2, j + 1); ++jj) {
       const ClosestPoint c = closestPointOnSegment(s.colon.q, jj, x);
-      if (c.distance - colon.smoothRadiusAt(jj, c.p) <= 0) return true;
+      if (c.distance - colon.radiusAt(jj, c.p) <= 0) return true;
     }
     return false;
   };

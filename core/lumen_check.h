@@ -6,8 +6,6 @@
 // A slice's track is the spline location of its centre (state.slice_track);
 // arclength is along the present centreline, summed over the chords between control points
 // (1.5 cm apart: within a few per cent of the curve's own length at the bends the colon takes).
-// The lumen is the anatomy's (ColonModel::smooth_radius_m): a haustral fold is tissue
-// inside it, so a scope pressing a fold flat has not left the lumen.
 #pragma once
 
 #include <vector>
@@ -21,7 +19,7 @@ struct LumenCheck {
   /// the scope's own length between them (0 when no adjacent pair exceeds it) [m].
   double track_jump_m = 0;
   /// Deepest interaction point beyond the wall it is tracked on: |x - M(track)| minus the
-  /// anatomy's lumen radius there, folds left out (0 when every point is inside) [m].
+  /// lumen radius there (0 when every point is inside) [m].
   double wall_penetration_m = 0;
   /// Some slice centre (on the scope's axis) lies outside the lumen of its track and
   /// outside it at its nearest point on that colon segment and both its neighbours.
