@@ -202,6 +202,7 @@ ColonModel buildColonModelFromPoints(const Points& q_rest, const Eigen::VectorXd
   m.n = static_cast<int>(q_rest.cols());
   m.q_rest = q_rest;
   m.radius_m = radius_m;
+  m.smooth_radius_m = radius_m;  // no haustral folds
   fillGeometry(m);
   m.region_names = {"colon"};
   m.region_mesentery = {"uniform"};

@@ -135,8 +135,7 @@ struct ColonModel {
   }
   /// The anatomy's lumen radius at (segment, p) without the haustral folds, linear [m].
   double smoothRadiusAt(int segment, double p) const {
-    const Eigen::VectorXd& r = smooth_radius_m.size() == n ? smooth_radius_m : radius_m;
-    return (1 - p) * r(segment) + p * r(segment + 1);
+    return (1 - p) * smooth_radius_m(segment) + p * smooth_radius_m(segment + 1);
   }
   /// Rest arclength at (segment, p), linear in p within the segment [m].
   double arclengthAt(int segment, double p) const {

@@ -54,7 +54,6 @@ TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
   EXPECT_NE(stays(cw), stays(ccw)) << "one direction of 1.25 turns takes it out, the other does not";
 }
 
-
 // Pleating (issue 21): the colon gathered onto the scope by a hooked withdrawal.
 // free_insertion's script to 28 s (the tip near the far end of the sigmoid), then the up knob
 // to 2.5 rad over 1 s and 15 cm withdrawn over 8 s, held 3 s. On a candidate patient: the
