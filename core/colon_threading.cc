@@ -5,54 +5,91 @@
 
 namespace colosim {
 
-void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector<WallContact>& out) {
-  const int slices = m.scope.params.slices_per_segment;
+namespace {
+
+/// A slice of the chain from the anus to the tip: its scope segment, its place along the
+/// colon (segment + p) and its centre [m].
+struct ChainNode {
+  int segment = 0;
+  double track = 0;
+  Vec3 centre = Vec3::Zero();
+};
+
+/// How far along the colon a threading contact is handed over at an end of the chain
+/// [control-point spacings]: a control point that the slice at the chain's end has only
+/// just passed is held with a weight growing from 0 to 1 over this much of the slice's
+/// further travel, where a full-strength contact would appear at once as deep as the slice
+/// came (the tip pressing the wall ahead of it: 0.7 mm, 22 N in one step).
+constexpr double kEndHandOver = 0.5;
+
+/// The threading contacts of the control points whose places lie between consecutive
+/// chain nodes a and b. The scope's axis at control point i is the point of the chord a-b
+/// at the same fraction of the way as i is of the way from a's track to b's, so that it is
+/// the slice's own centre where i sits on a slice's track, whichever of the slice's two
+/// chords i is counted in. (The chord's point nearest q_i jumped there from one chord's end
+/// to the other's interior as the track crossed i: one step at 1.2 mm, 36 N, in a gathered
+/// sigmoid.) `first_chord`, `last_chord`: the chord is at an end of its chain (the
+/// hand-over above).
+void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode& a, const ChainNode& b,
+                   bool first_chord, bool last_chord, std::vector<WallContact>& out) {
   const int n = m.colon.n;
   const double behind_m = m.contact.wall_thickness_m - m.scope.radius_m;  // added to r_i [m]
+  const double ta = a.track, tb = b.track;
+  const int first = std::max(1, static_cast<int>(std::floor(std::min(ta, tb))) + 1);
+  const int last = std::min(n - 2, static_cast<int>(std::ceil(std::max(ta, tb))) - 1);
+  for (int i = first; i <= last; ++i) {  // ta != tb here: i lies strictly between them
+    const double u = (i - ta) / (tb - ta);
+    const Vec3 y = a.centre + u * (b.centre - a.centre);
+    const Vec3 q = s.colon.q.col(i);
+    const Vec3 d = y - q;
+    const double e = d.norm();
+    const double depth = e - (m.colon.radius_m(i) + behind_m);
+    if (!(depth > 0)) continue;
+    double weight = 1.0;
+    if (first_chord) weight = std::min(weight, std::abs(i - ta) / kEndHandOver);
+    if (last_chord) weight = std::min(weight, std::abs(tb - i) / kEndHandOver);
+    WallContact c;
+    c.scope_segment = u < 0.5 ? a.segment : b.segment;
+    c.point = 0;
+    c.p_W_point = y;
+    c.colon_segment = i;
+    c.p = 0.0;
+    c.p_W_centre = q;
+    c.normal_W = d / e;
+    c.depth_m = depth;
+    c.weight = weight;
+    out.push_back(c);
+  }
+}
+
+}  // namespace
+
+void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector<WallContact>& out) {
+  const int slices = m.scope.params.slices_per_segment;
   // The chain of slices from the anus to the tip, as the tracking walks it; a slice
-  // without a track breaks it.
-  int prev_k = -1, prev_sl = 0;
+  // without a track breaks it. A chord is done when the node after it is known (or the
+  // chain ends), to know whether it is the chain's last.
+  ChainNode prev, cur;
+  int count = 0;  // nodes of the current chain so far
+  auto endChain = [&]() {
+    if (count >= 2) chordContacts(m, s, prev, cur, count == 2, true, out);
+    count = 0;
+  };
   for (int k = s.scope.inside - 1; k >= 0; --k) {
     for (int sl = 0; sl < slices; ++sl) {
-      const WallTrack& b = s.slice_track[static_cast<size_t>(k) * slices + sl];
-      if (b.colon_segment < 0) {
-        prev_k = -1;
+      const WallTrack& t = s.slice_track[static_cast<size_t>(k) * slices + sl];
+      if (t.colon_segment < 0) {
+        endChain();
         continue;
       }
-      if (prev_k >= 0) {
-        const WallTrack& a = s.slice_track[static_cast<size_t>(prev_k) * slices + prev_sl];
-        const double ta = a.colon_segment + a.p, tb = b.colon_segment + b.p;  // places along the colon
-        const int first = std::max(1, static_cast<int>(std::floor(std::min(ta, tb))) + 1);
-        const int last = std::min(n - 2, static_cast<int>(std::ceil(std::max(ta, tb))) - 1);
-        if (first <= last) {
-          const Vec3 ca = sliceCentre(m.scope, s.scope, prev_k, prev_sl);
-          const Vec3 ab = sliceCentre(m.scope, s.scope, k, sl) - ca;
-          const double len2 = ab.squaredNorm();
-          for (int i = first; i <= last; ++i) {
-            const Vec3 q = s.colon.q.col(i);
-            const double u = len2 > 0 ? std::clamp((q - ca).dot(ab) / len2, 0.0, 1.0) : 0.0;
-            const Vec3 y = ca + u * ab;
-            const Vec3 d = y - q;
-            const double e = d.norm();
-            const double depth = e - (m.colon.radius_m(i) + behind_m);
-            if (!(depth > 0)) continue;
-            WallContact c;
-            c.scope_segment = u < 0.5 ? prev_k : k;
-            c.point = 0;
-            c.p_W_point = y;
-            c.colon_segment = i;
-            c.p = 0.0;
-            c.p_W_centre = q;
-            c.normal_W = d / e;
-            c.depth_m = depth;
-            out.push_back(c);
-          }
-        }
-      }
-      prev_k = k;
-      prev_sl = sl;
+      const ChainNode next{k, t.colon_segment + t.p, sliceCentre(m.scope, s.scope, k, sl)};
+      if (count >= 2) chordContacts(m, s, prev, cur, count == 2, false, out);
+      prev = cur;
+      cur = next;
+      ++count;
     }
   }
+  endChain();
 }
 
 void applyThreadingContacts(const WorldModel& m, WorldState& s) {

@@ -11,12 +11,18 @@
 //
 // Threading contacts sample the same wall at the colon's own control points. Every
 // control point i whose place along the colon lies between the tracks of two consecutive
-// slices (anus to tip) has the scope's axis there, taken as the chord between the two slice
-// centres. Where the scope's surface lies beyond the wall's thickness at that cross-section
+// slices a and b (anus to tip) has the scope's axis there at
+//   y = c_a + u (c_b - c_a),  u = (i - t_a) / (t_b - t_a),
+// c the slices' centres and t their tracks (segment + p): the point of the chord as far
+// along it as i is between the tracks, so that y moves continuously as a track passes a
+// control point. Where the scope's surface lies beyond the wall's thickness at that
+// cross-section
 //   depth = |y - q_i| - (r_i - r_scope + wall_thickness) > 0,
-// y the chord's point nearest q_i, what lies behind the wall pushes back:
-// ContactParams::threading_stiffness_N_per_m per metre of depth (and the wall's damping and
-// friction), on the scope at y and on the colon at q_i, opposite. Where the scope is
+// what lies behind the wall pushes back: ContactParams::threading_stiffness_N_per_m per
+// metre of depth (and the wall's damping and friction), on the scope at y and on the colon
+// at q_i, opposite. At the two ends of the chain (the tip, the most proximal slice inside)
+// a control point just passed is handed over: its contact's weight grows from 0 to 1 over
+// half a control-point spacing of the end slice's further travel. Where the scope is
 // inside the lumen nothing is found; pressed into the wall between two slices, a control
 // point takes up to a newton or so (sigmoid_untwist: at most 0.5 mm deep).
 #pragma once
@@ -30,7 +36,8 @@ namespace colosim {
 /// Appends to `out` the threading contacts of the state's slice tracks (see above): each a
 /// WallContact at y on the scope segment of the nearer slice (`point` 0: a slice's
 /// scaling), located at control point i (segment i, p = 0), with its normal from q_i
-/// towards y and its depth [m]. Control points 1 .. n - 2 only.
+/// towards y, its depth [m] and its weight (1, less where handed over at a chain's end).
+/// Control points 1 .. n - 2 only.
 void findThreadingContacts(const WorldModel& model, const WorldState& state, std::vector<WallContact>& out);
 
 /// When ContactParams::threading_stiffness_N_per_m > 0: finds the threading contacts into

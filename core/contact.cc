@@ -26,11 +26,12 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
                                                            : 1.0;
   const size_t slice_points = scope.interaction_points_S.size();
   for (WallContact& c : contacts) {
-    const double w = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
+    const double w_slice = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
+    const double w = w_slice * c.weight;
     const double k_wall = w * P.wall_stiffness_N_per_m, c_wall = w * P.wall_damping_Ns_per_m;
     const double backed_m = c.depth_m - P.wall_thickness_m;  // > 0: pressed through the wall's thickness
     const double k_back = backed_m > 0 ? w * P.wall_backing_stiffness_N_per_m : 0.0;
-    const double max_force_N = w * P.max_point_force_N;
+    const double max_force_N = w_slice * P.max_point_force_N;
     const int k = c.scope_segment;
     const Vec3 r = c.p_W_point - ss.p_W[k];
     const Vec3 v_point = ss.v_W[k] + ss.w_W[k].cross(r);

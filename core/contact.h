@@ -73,6 +73,9 @@ struct WallContact {
   Vec3 p_W_centre = Vec3::Zero();     ///< M_j(p) [m]
   Vec3 normal_W = Vec3::Zero();       ///< unit, from M_j(p) towards I (out of the lumen)
   double depth_m = 0;                 ///< |I - M_j(p)| - radius(p) > 0 [m]
+  /// Scales the contact's stiffness and damping (1; less for a threading contact handed
+  /// over at the end of the scope's chain of slices, core/colon_threading.h).
+  double weight = 1.0;
   double force_N = 0;                 ///< magnitude of the contact force (filled by the force stage) [N]
   double normal_force_N = 0;          ///< its normal part, eq. 7 (filled by the force stage) [N]
 };

@@ -65,6 +65,79 @@ TEST(ColonThreading, AControlPointOffTheScopeBetweenTwoSlicesIsHeld) {
   EXPECT_LT((t.s.scope.p_W[c.scope_segment] - c.p_W_point).norm(), t.m.scope.h_m);
 }
 
+// The slice of the chain whose track is nearest control point i (slices_per_segment 1).
+int sliceNear(const WorldState& s, int i) {
+  int best = 0;
+  for (int k = 0; k < s.scope.inside; ++k) {
+    const WallTrack& t = s.slice_track[static_cast<size_t>(k)];
+    const WallTrack& b = s.slice_track[static_cast<size_t>(best)];
+    if (std::abs(t.colon_segment + t.p - i) < std::abs(b.colon_segment + b.p - i)) best = k;
+  }
+  return best;
+}
+
+// The one threading contact found at control point i (fails the test when there is none).
+WallContact contactAt(const Threaded& t, int i) {
+  std::vector<WallContact> found;
+  findThreadingContacts(t.m, t.s, found);
+  for (const WallContact& c : found)
+    if (c.colon_segment == i) return c;
+  ADD_FAILURE() << "no threading contact at control point " << i;
+  return WallContact();
+}
+
+// A control point sitting on a slice's track is counted in one of the slice's two chords
+// or the other as the track moves by a hair: its contact must not change. With the scope
+// bent at that slice and the point beside it but a little distal, the chord's nearest
+// point jumped from the proximal chord's end to the distal chord's interior (a gathered
+// sigmoid: one step at 1.2 mm, 36 N).
+TEST(ColonThreading, AControlPointOnASlicesTrackIsHeldTheSameOnEitherSideOfIt) {
+  Threaded t(30000);
+  ASSERT_EQ(t.m.scope.params.slices_per_segment, 1);
+  const int i = 10;
+  const int k = sliceNear(t.s, i);
+  ASSERT_GT(k, 0);
+  ASSERT_LT(k, t.s.scope.inside - 1);
+  // Bend the scope at slice k by 5 mm (+x) and put the point beside it, 3 mm distal, past
+  // the threshold on the other side (-x).
+  t.s.scope.p_W[k].x() += 0.005;
+  const Vec3 c = sliceCentre(t.m.scope, t.s.scope, k, 0);
+  t.s.colon.q.col(i) = c + Vec3(-(t.threshold_m(i) + 0.002), 0, 0) + 0.003 * (c - sliceCentre(t.m.scope, t.s.scope, k + 1, 0)).normalized();
+  WallContact below, above;
+  t.s.slice_track[static_cast<size_t>(k)] = {i - 1, 1.0 - 1e-9};
+  below = contactAt(t, i);
+  t.s.slice_track[static_cast<size_t>(k)] = {i, 1e-9};
+  above = contactAt(t, i);
+  EXPECT_GT(below.depth_m, 0.001);
+  EXPECT_NEAR(below.depth_m, above.depth_m, 1e-8);
+  EXPECT_LT((below.p_W_point - above.p_W_point).norm(), 1e-8);
+  // And on the track the scope's axis there is the slice's centre.
+  EXPECT_LT((below.p_W_point - c).norm(), 1e-8);
+}
+
+// The tip's slice passing a control point pressed into the wall hands its contact over:
+// its weight grows from 0 with the tip's further travel, to 1 half a spacing on, where a
+// full contact would appear at once (0.7 mm, 22 N in one step of free_insertion).
+TEST(ColonThreading, TheTipHandsOverTheControlPointItHasJustPassed) {
+  Threaded t(30000);
+  const int tip = 0;
+  const WallTrack at = t.s.slice_track[tip];
+  const int i = static_cast<int>(std::floor(at.colon_segment + at.p));  // just passed by the tip
+  ASSERT_GT(i, 1);
+  t.s.colon.q.col(i).x() += t.threshold_m(i) + 0.01;
+  for (const double past : {0.05, 0.25, 0.45, 0.6, 0.9}) {
+    t.s.slice_track[tip] = {i, past};
+    const WallContact c = contactAt(t, i);
+    EXPECT_LE(c.scope_segment, 1) << "on the tip's segment or the one behind it";
+    EXPECT_NEAR(c.weight, std::min(1.0, past / 0.5), 1e-12) << past;
+  }
+  // Not yet passed: nothing.
+  t.s.slice_track[tip] = {i - 1, 0.95};
+  std::vector<WallContact> found;
+  findThreadingContacts(t.m, t.s, found);
+  for (const WallContact& c : found) EXPECT_NE(c.colon_segment, i);
+}
+
 // Beyond the tip no slice brackets a control point: nothing holds it there.
 TEST(ColonThreading, NothingBeyondTheTip) {
   Threaded t(30000);
