@@ -55,14 +55,14 @@ TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
 }
 
 // Pleating (issue 21): the colon gathered onto the scope by a hooked withdrawal.
-// free_insertion's script to 28 s (the tip near the far end of the sigmoid), then the up knob
+// free_insertion's script to 30 s (the tip near the far end of the sigmoid), then the up knob
 // to 2.5 rad over 1 s and 15 cm withdrawn over 8 s, held 3 s. On a candidate patient: the
 // one patient (default.json) with the haustral folds in the contact wall (depth 0.25, the
 // renderer's) and a colon that pleats under axial compression (compression fraction 0.05).
-// With the folds the hooked tip holds the colon and the sigmoid shortens onto the scope;
-// on the paper's smooth tube (fold depth 0) the tip slides back along it. The issue's 80 %
-// is not asserted: the candidate reaches 0.76-0.81 depending on where the hook is set.
-// Not yet the shipped patient: docs/clinical-mechanics.md, session 22.
+// With the folds the hooked tip holds the colon and the sigmoid shortens onto the scope to
+// below the issue's 80 % of its rest length (measured 0.763; 0.797 with the hook set at
+// 28 s); on the paper's smooth tube (fold depth 0) the tip slides back along it (10 cm,
+// 0.957). Not yet the shipped patient: docs/clinical-mechanics.md, sessions 22-23.
 struct Withdrawal {
   double sigmoid_before = 0;  ///< present/rest length of the sigmoid when the hook is set [-]
   double sigmoid_least = 0;   ///< its least during the withdrawal and hold [-]
@@ -72,7 +72,7 @@ struct Withdrawal {
 
 Withdrawal hookedWithdrawal(double fold_depth, double compression_fraction) {
   Scenario sc = findScenario("free_insertion");
-  const double t0 = 28.0;
+  const double t0 = 30.0;
   std::vector<Keyframe> script;
   for (const Keyframe& k : sc.script)
     if (k.t_s <= t0) script.push_back(k);
@@ -120,13 +120,13 @@ TEST(Pleating, AHookedWithdrawalGathersTheSigmoidOntoTheScope) {
               "%.3f, tip back %.3f m\n",
               folds.sigmoid_before, folds.sigmoid_least, folds.tip_back_m, folds.limited_steps, smooth.sigmoid_before,
               smooth.sigmoid_least, smooth.tip_back_m);
-  // The gathering must not stand on a clamped force (from 30 s instead of 28 s a threading
-  // contact flickers in for one step past the 20 N limit: docs/clinical-mechanics.md).
+  // The gathering must not stand on a clamped force (before the threading contacts were
+  // made continuous, one flickered in for one step here past the 20 N limit).
   EXPECT_EQ(folds.limited_steps, 0);
   EXPECT_LT(folds.tip_back_m, 0.05) << "the hooked tip holds: it slides back less than a third of the 15 cm";
   EXPECT_GT(smooth.tip_back_m, 0.05) << "on a smooth tube the hook slides back more than a third of the 15 cm";
   EXPECT_LT(folds.sigmoid_least, smooth.sigmoid_least - 0.05) << "the held colon is gathered onto the scope";
-  EXPECT_LT(folds.sigmoid_least, 0.85);
+  EXPECT_LT(folds.sigmoid_least, 0.80) << "the issue's pleating: below 80 % of the sigmoid's rest length";
 }
 
 }  // namespace
