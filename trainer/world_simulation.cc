@@ -344,8 +344,7 @@ void WorldSimulation::measure() {
   const Mat3& R = s.scope.R_WS[0];
   const Vec3 forward = R.col(2);
   const int tracked = s.slice_track.empty() ? -1 : s.slice_track[scope.params.slices_per_segment - 1].colon_segment;
-  const ClosestPoint ahead = nearestAround(s.colon.q, tracked, tip + kRedoutDistance_m * forward);
-  t.tip_against_wall = ahead.distance > colon.radiusAt(ahead.segment, ahead.p);
+  t.tip_against_wall = lensAgainstWall(colon, s.colon.q, tracked, tip, forward);
   const ClosestPoint here = nearestAround(s.colon.q, tracked, tip);
   const double s_here = colon.arclengthAt(here.segment, here.p);
   t.tip_arclength_m = s_here;
@@ -379,6 +378,13 @@ void WorldSimulation::measure() {
       t.patches_seen.push_back(j * kPatchSectors + a);
     }
   }
+}
+
+bool lensAgainstWall(const ColonModel& colon, const Points& q, int tracked, const Vec3& tip_W, const Vec3& forward_W) {
+  const ClosestPoint ahead = nearestAround(q, tracked, tip_W + kRedoutDistance_m * forward_W);
+  // The contact wall's folds (ColonParams::haustral_fold_depth) narrow it over a
+  // control-point spacing either side of each fold, where the picture is not red.
+  return ahead.distance > colon.smoothRadiusAt(ahead.segment, ahead.p);
 }
 
 std::unique_ptr<Simulation> makeWorldSimulation(const Scenario& scenario) {

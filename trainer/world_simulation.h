@@ -109,4 +109,10 @@ class WorldSimulation : public Simulation {
 /// A SimulationFactory building WorldSimulation (FCL queries).
 std::unique_ptr<Simulation> makeWorldSimulation(const Scenario& scenario);
 
+/// Red-out (Telemetry::tip_against_wall): the point 4 mm ahead of the lens at `tip_W` [m],
+/// looking along `forward_W` (unit), lies beyond the wall the camera sees, the anatomy's
+/// radius (ColonModel::smooth_radius_m; the renderer draws thin folds of its own), at its
+/// nearest colon location within 3 segments of `tracked` (every segment when negative).
+bool lensAgainstWall(const ColonModel& colon, const Points& q, int tracked, const Vec3& tip_W, const Vec3& forward_W);
+
 }  // namespace colosim
