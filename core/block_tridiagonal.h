@@ -10,9 +10,9 @@
 // no allocation after resize(), the same operations in the same order every time.
 #pragma once
 
+#include <cmath>
 #include <vector>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 namespace colosim {
@@ -29,6 +29,7 @@ class BlockTridiagonal {
     e_.assign(blocks, Block::Zero());
     l_.assign(blocks, Block::Zero());
     f_.assign(blocks, Block::Zero());
+    inv_diag_.assign(blocks, Vec::Zero());
   }
   /// Zeroes the first m diagonal blocks and the m - 1 blocks below them.
   void setZero(int m) {
@@ -43,20 +44,34 @@ class BlockTridiagonal {
     for (int k = 0; k < m; ++k) {
       Block s = d_[k];
       if (k > 0) s.noalias() -= f_[k - 1] * f_[k - 1].transpose();
-      Eigen::LLT<Block> llt(s);
-      if (llt.info() != Eigen::Success) return false;
-      l_[k] = llt.matrixL();
+      // L_k by Cholesky-Crout, written out (the lower triangle; the upper stays 0 from
+      // resize()), keeping the pivots' reciprocals for the substitutions.
+      Block& l = l_[k];
+      Vec& inv = inv_diag_[k];
+#pragma GCC unroll 8
+      for (int j = 0; j < B; ++j) {
+        double v = s(j, j);
+        for (int p = 0; p < j; ++p) v -= l(j, p) * l(j, p);
+        if (!(v > 0)) return false;  // not positive definite (or not finite)
+        l(j, j) = std::sqrt(v);
+        inv(j) = 1.0 / l(j, j);
+        for (int i = j + 1; i < B; ++i) {
+          double w = s(i, j);
+          for (int p = 0; p < j; ++p) w -= l(i, p) * l(j, p);
+          l(i, j) = w * inv(j);
+        }
+      }
       if (k + 1 < m) {
         // F_k = E_k L_k^{-T}: solve F_k L_k^T = E_k, i.e. L_k F_k^T = E_k^T, by forward
-        // substitution written out (Eigen's triangular solve with a matrix right-hand side
-        // takes its blocked general path even for fixed 6 x 6 blocks: ~3x the work).
-        const Block& l = l_[k];
+        // substitution.
         Block& f = f_[k];
+#pragma GCC unroll 8
         for (int c = 0; c < B; ++c)
+#pragma GCC unroll 8
           for (int i = 0; i < B; ++i) {
             double v = e_[k](c, i);
             for (int j = 0; j < i; ++j) v -= l(i, j) * f(c, j);
-            f(c, i) = v / l(i, i);
+            f(c, i) = v * inv(i);
           }
       }
     }
@@ -69,18 +84,29 @@ class BlockTridiagonal {
     for (int k = 0; k < m; ++k) {
       Eigen::Map<Vec> xk(x + k * B);
       if (k > 0) xk.noalias() -= f_[k - 1] * Eigen::Map<const Vec>(x + (k - 1) * B);
-      l_[k].template triangularView<Eigen::Lower>().solveInPlace(xk);
+      const Block& l = l_[k];
+      for (int i = 0; i < B; ++i) {
+        double v = xk(i);
+        for (int j = 0; j < i; ++j) v -= l(i, j) * xk(j);
+        xk(i) = v * inv_diag_[k](i);
+      }
     }
     // Backward: L^T x = y.
     for (int k = m - 1; k >= 0; --k) {
       Eigen::Map<Vec> xk(x + k * B);
       if (k + 1 < m) xk.noalias() -= f_[k].transpose() * Eigen::Map<const Vec>(x + (k + 1) * B);
-      l_[k].transpose().template triangularView<Eigen::Upper>().solveInPlace(xk);
+      const Block& l = l_[k];
+      for (int i = B - 1; i >= 0; --i) {
+        double v = xk(i);
+        for (int j = i + 1; j < B; ++j) v -= l(j, i) * xk(j);
+        xk(i) = v * inv_diag_[k](i);
+      }
     }
   }
 
  private:
   std::vector<Block> d_, e_, l_, f_;
+  std::vector<Vec> inv_diag_;  // 1 / diag(L_k)
 };
 
 }  // namespace colosim

@@ -12,18 +12,24 @@ namespace {
 // Adds the 3 x 3 block B at block position (I, J) of the symmetric system, and its
 // transpose at (J, I): only the lower triangle is stored, so a diagonal block adds its
 // lower part and an off-diagonal block is stored once, below the diagonal.
-inline void addBlock(BandedSpd& a, int I, int J, const Mat3& B) {
+inline void addBlock(BandedSpd& a, int I, int J, const Mat3& B, double scale = 1.0) {
+  // In the band's rows, entry (i + r, j + c) lies r * b + c after entry (i, j).
+  const int b = a.halfBandwidth();
   if (I == J) {
+    double* p = &a.lower(3 * I, 3 * I);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c <= r; ++c) a.lower(3 * I + r, 3 * I + c) += B(r, c);
+      for (int c = 0; c <= r; ++c) p[r * b + c] += scale * B(r, c);
   } else if (I > J) {
+    double* p = &a.lower(3 * I, 3 * J);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) a.lower(3 * I + r, 3 * J + c) += B(r, c);
+      for (int c = 0; c < 3; ++c) p[r * b + c] += scale * B(r, c);
   } else {
+    double* p = &a.lower(3 * J, 3 * I);
     for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) a.lower(3 * J + c, 3 * I + r) += B(r, c);
+      for (int c = 0; c < 3; ++c) p[c * b + r] += scale * B(r, c);
   }
 }
+
 
 // y.col(i) += s * sum_l A(i, l) x.col(l) for a scalar band matrix A over control points.
 void addScalarBandTimes(const ScalarBand& A, const double* x, double s, double* y) {
@@ -89,7 +95,7 @@ void spreadPointLoad(const Blend& b, const Vec3& force_N, const Vec3& Kv, const 
     }
     for (int c2 = 0; c2 < 4; ++c2) {
       const int l = b.index[c2];
-      if (i >= l) addBlock(system, i, l, (b.w[a] * b.w[c2]) * H);
+      if (i >= l) addBlock(system, i, l, H, b.w[a] * b.w[c2]);
     }
   }
 }
@@ -217,19 +223,23 @@ void addLifterAxialRelief(const ColonModel& m, ColonState& s, double dt) {
 // Bending of the colon wall (colon_bending, colon_extensions.h) at interior control points.
 void addWallBending(const ColonModel& m, ColonState& s, double dt) {
   const int n = m.n;
+  const double dt2 = dt * dt;
   double* f = s.force.data();
   double* rhs = s.rhs.data();
   for (int i = 1; i + 1 < n; ++i) {
     const BendingResponse r = bendingAtPoint(s.q.col(i - 1), s.q.col(i), s.q.col(i + 1),
                                              m.bend_rest_angle_rad(i), m.bending_EI_Nm2, m.bend_length_m(i));
+    const Vec3 v0 = s.v.col(i - 1), v1 = s.v.col(i), v2 = s.v.col(i + 1);
     for (int j = 0; j < 3; ++j) {
-      Vec3 Kv = Vec3::Zero();
-      for (int k = 0; k < 3; ++k) Kv += r.stiffness_N_per_m[j][k] * s.v.col(i - 1 + k);
+      const auto& K = r.stiffness_N_per_m[j];
+      const Vec3 Kv = K[0] * v0 + K[1] * v1 + K[2] * v2;
+      double* fj = f + 3 * (i - 1 + j);
+      double* rj = rhs + 3 * (i - 1 + j);
       for (int c = 0; c < 3; ++c) {
-        f[3 * (i - 1 + j) + c] += r.force_N[j](c);
-        rhs[3 * (i - 1 + j) + c] -= dt * dt * Kv(c);
+        fj[c] += r.force_N[j](c);
+        rj[c] -= dt2 * Kv(c);
       }
-      for (int k = 0; k <= j; ++k) addBlock(s.system, i - 1 + j, i - 1 + k, dt * dt * r.stiffness_N_per_m[j][k]);
+      for (int k = 0; k <= j; ++k) addBlock(s.system, i - 1 + j, i - 1 + k, K[k], dt2);
     }
   }
 }

@@ -52,6 +52,28 @@ inline Mat3 rightJacobianInverse(const Vec3& w) {
   return Mat3::Identity() + 0.5 * W + a * W * W;
 }
 
+/// log(R), as logSO3(R), and the inverse of the right Jacobian at it, as
+/// rightJacobianInverse(log(R)), sharing the trigonometry of the two.
+inline Vec3 logSO3WithJacobian(const Mat3& R, Mat3* jr_inverse) {
+  const double c = std::clamp(0.5 * (R.trace() - 1.0), -1.0, 1.0);
+  const double t = std::acos(c);
+  // Near 0 and near pi (where 1 + cos t cancels) the separate functions' forms.
+  if (t < 1e-4 || t > 3.0) {
+    const Vec3 w = logSO3(R);
+    *jr_inverse = rightJacobianInverse(w);
+    return w;
+  }
+  const Vec3 v(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+  const double s = std::sin(t);
+  const Vec3 w = (t / (2 * s)) * v;
+  // I + W / 2 + a W^2 with W^2 = w w^T - |w|^2 I and |w| = t: (1 - a t^2) I + W / 2 + a w w^T,
+  // where 1 - a t^2 = t (1 + cos t) / (2 sin t).
+  const double b = t * (1 + c) / (2 * s);
+  const double a = 1.0 / (t * t) - b / (t * t);
+  *jr_inverse = b * Mat3::Identity() + 0.5 * skew(w) + a * (w * w.transpose());
+  return w;
+}
+
 /// Makes R orthonormal again (Gram-Schmidt on its columns, keeping the third column's
 /// direction: the scope's axis).
 inline void orthonormalize(Mat3& R) {

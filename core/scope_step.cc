@@ -28,21 +28,23 @@ struct JointTerms {
 };
 
 JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const HandleInput& in) {
-  const double h = m.h_m;
+  const double hh = 0.5 * m.h_m;
   const Vec3 d3k = s.R_WS[k].col(2), d3p = s.R_WS[k + 1].col(2);
   // Position: the distal segment's proximal end meets the proximal segment's distal end.
-  // gap rate = Jd u_k + Jp u_{k+1} with Jd = [I, Sd], Jp = [-I, Sp], S = (h/2)[d3]x.
-  const Vec3 gap = (s.p_W[k] - 0.5 * h * d3k) - (s.p_W[k + 1] + 0.5 * h * d3p);
-  const Mat3 Sd = 0.5 * h * skew(d3k), Sp = 0.5 * h * skew(d3p);
+  // gap rate = Jd u_k + Jp u_{k+1} with Jd = [I, Sd], Jp = [-I, Sp], S = (h/2)[d3]x, so
+  // S w = (h/2) d3 x w, and the products of two such matrices are outer products:
+  // [a]x [b]x = b a^T - (a . b) I.
+  const Vec3 gap = (s.p_W[k] - hh * d3k) - (s.p_W[k + 1] + hh * d3p);
   const double kj = m.params.joint_stiffness_N_per_m;
-  const Vec3 gap_rate = s.v_W[k] + Sd * s.w_W[k] - s.v_W[k + 1] + Sp * s.w_W[k + 1];
+  const Vec3 gap_rate = s.v_W[k] + hh * d3k.cross(s.w_W[k]) - s.v_W[k + 1] + hh * d3p.cross(s.w_W[k + 1]);
   const Vec3 fg = kj * (gap + m.params.joint_damping_s * gap_rate);
 
   // Rotation: bending and torsion against the rest rotation.
   const Mat3 R_rel = s.R_WS[k + 1].transpose() * s.R_WS[k];
-  const Vec3 omega = logSO3(R_rel);
+  Mat3 jr_inverse;
+  const Vec3 omega = logSO3WithJacobian(R_rel, &jr_inverse);
   const Vec3 err = omega - jointRestRotation(m, s, k, in);
-  const Mat3 A = rightJacobianInverse(omega) * s.R_WS[k].transpose();
+  const Mat3 A = jr_inverse * s.R_WS[k].transpose();
   const Vec3 rel_rate = A * (s.w_W[k] - s.w_W[k + 1]);
   Vec3 kd = m.joint_stiffness_Nm_per_rad[k];
   const double ei_factor = bendingStiffnessFactor(m, k, in);  // the variable-stiffness level (1 elsewhere)
@@ -53,14 +55,26 @@ JointTerms jointTerms(const ScopeModel& m, const ScopeState& s, int k, const Han
 
   JointTerms t;
   // Generalised forces -J^T fg (J^T = [I; S^T] with S^T = -S), plus the rotational moment.
-  t.f_distal << -fg, Sd * fg - tau;
-  t.f_proximal << fg, Sp * fg + tau;
+  t.f_distal << -fg, hh * d3k.cross(fg) - tau;
+  t.f_proximal << fg, hh * d3p.cross(fg) + tau;
   // Gauss-Newton stiffness kj J^T J from 3x3 pieces, plus A^T K A on the rotations.
-  const Mat3 AKA = A.transpose() * kd.asDiagonal() * A;
+  const Mat3 KA = kd.asDiagonal() * A;
+  const Mat3 AKA = A.transpose() * KA;
   const Mat3 I3 = Mat3::Identity();
-  t.K_dd << kj * I3, kj * Sd, -kj * Sd, -kj * Sd * Sd + AKA;
-  t.K_pp << kj * I3, -kj * Sp, kj * Sp, -kj * Sp * Sp + AKA;
-  t.K_dp << -kj * I3, kj * Sp, kj * Sd, -kj * Sd * Sp - AKA;
+  const double c2 = kj * hh * hh;
+  const Mat3 kSd = (kj * hh) * skew(d3k), kSp = (kj * hh) * skew(d3p);
+  t.K_dd.topLeftCorner<3, 3>() = kj * I3;
+  t.K_dd.topRightCorner<3, 3>() = kSd;
+  t.K_dd.bottomLeftCorner<3, 3>() = -kSd;
+  t.K_dd.bottomRightCorner<3, 3>() = c2 * (I3 - d3k * d3k.transpose()) + AKA;
+  t.K_pp.topLeftCorner<3, 3>() = kj * I3;
+  t.K_pp.topRightCorner<3, 3>() = -kSp;
+  t.K_pp.bottomLeftCorner<3, 3>() = kSp;
+  t.K_pp.bottomRightCorner<3, 3>() = c2 * (I3 - d3p * d3p.transpose()) + AKA;
+  t.K_dp.topLeftCorner<3, 3>() = -kj * I3;
+  t.K_dp.topRightCorner<3, 3>() = kSp;
+  t.K_dp.bottomLeftCorner<3, 3>() = kSd;
+  t.K_dp.bottomRightCorner<3, 3>() = c2 * (d3k.dot(d3p) * I3 - d3p * d3k.transpose()) - AKA;
   return t;
 }
 

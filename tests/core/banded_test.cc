@@ -1,5 +1,7 @@
 #include "core/banded.h"
+#include "core/block_tridiagonal.h"
 
+#include <limits>
 #include <random>
 
 #include <Eigen/Dense>
@@ -39,6 +41,52 @@ TEST(BandedSpd, RefusesAnIndefiniteMatrix) {
   band.lower(2, 2) = 1;
   band.lower(1, 0) = 2;  // eigenvalues of [[1,2],[2,1]] include -1
   EXPECT_FALSE(band.factorize());
+}
+
+
+// The scope's block-tridiagonal Cholesky against a dense factorisation of the same matrix,
+// on the leading blocks of storage sized for more (as the scope uses it).
+TEST(BlockTridiagonal, SolvesAsTheDenseCholeskyOnTheLeadingBlocks) {
+  constexpr int B = 6;
+  const int blocks = 9, used = 7, n = used * B;
+  BlockTridiagonal<B> a;
+  a.resize(blocks);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, n);
+  for (int k = 0; k < used; ++k) {
+    Eigen::Matrix<double, B, B> g;
+    for (int i = 0; i < B; ++i)
+      for (int j = 0; j < B; ++j) g(i, j) = u(rng);
+    a.diag(k) = g * g.transpose() + 8.0 * Eigen::Matrix<double, B, B>::Identity();
+    dense.block<B, B>(k * B, k * B) = a.diag(k);
+    if (k + 1 < used) {
+      for (int i = 0; i < B; ++i)
+        for (int j = 0; j < B; ++j) a.below(k)(i, j) = u(rng);
+      dense.block<B, B>((k + 1) * B, k * B) = a.below(k);
+      dense.block<B, B>(k * B, (k + 1) * B) = a.below(k).transpose();
+    }
+  }
+  ASSERT_TRUE(a.factorize(used));
+  Eigen::VectorXd rhs(n);
+  for (int i = 0; i < n; ++i) rhs(i) = u(rng);
+  Eigen::VectorXd x = rhs;
+  a.solveInPlace(used, x.data());
+  const Eigen::VectorXd want = dense.llt().solve(rhs);
+  EXPECT_LT((x - want).norm(), 1e-12 * want.norm());
+  EXPECT_LT((dense * x - rhs).norm(), 1e-12 * rhs.norm());
+}
+
+TEST(BlockTridiagonal, RefusesAMatrixThatIsNotPositiveDefinite) {
+  BlockTridiagonal<6> a;
+  a.resize(3);
+  for (int k = 0; k < 3; ++k) a.diag(k) = Eigen::Matrix<double, 6, 6>::Identity();
+  a.below(0) = 2.0 * Eigen::Matrix<double, 6, 6>::Identity();  // |E| > D: indefinite
+  EXPECT_FALSE(a.factorize(3));
+  a.below(0).setZero();
+  EXPECT_TRUE(a.factorize(3));
+  a.diag(1)(2, 2) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(a.factorize(3));
 }
 
 }  // namespace
