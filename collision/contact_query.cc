@@ -93,8 +93,18 @@ struct FclContactQuery::Impl final : TrackingCandidates {
 
   ContactTracker tracker;
   std::unique_ptr<fcl::BroadPhaseCollisionManagerd> colon_mgr, scope_mgr, sphere_mgr;
-  std::vector<std::shared_ptr<fcl::Boxd>> colon_boxes;
-  std::vector<std::unique_ptr<fcl::CollisionObjectd>> colon_objs, scope_objs, sphere_objs;
+  // The managers hold the colon's boxes and spheres fattened by `fat_m` when they were last
+  // updated (colon_objs, sphere_objs); colon_exact holds each step's exact boxes, and the
+  // scope's cubes are always exact (the colon's fat covers both sides' motion).
+  std::vector<std::shared_ptr<fcl::Boxd>> colon_boxes, colon_exact_boxes;
+  std::vector<std::unique_ptr<fcl::CollisionObjectd>> colon_objs, colon_exact, scope_objs, sphere_objs;
+  double fat_m = 0;
+  Points wall_q_built, self_q_built;  // the colon when the managers were last updated [m]
+  std::vector<Vec3> scope_p_built;    // the scope segments' centres then [m]
+  int inside_built = -1;
+  bool wall_built = false, self_built = false;
+  std::vector<std::pair<int, int>> fat_pairs, self_fat_pairs;  // the managers' pairs then
+  long wall_rebuilds = 0, self_rebuilds = 0;
   std::vector<Vec3> lo, hi;  // bounds of each colon segment's centreline [m]
   std::vector<Vec3> mid;     // centre of each segment's Bezier hull ...
   std::vector<double> rho;   // ... and the radius of a ball around it holding the segment [m]
@@ -136,7 +146,8 @@ SplineLocation FclContactQuery::Impl::nearestOther(const std::vector<SegmentCubi
   return other;
 }
 
-FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager) : impl_(new Impl(m)) {
+FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager, double fat_margin_m)
+    : impl_(new Impl(m)) {
   Impl& I = *impl_;
   I.colon_mgr = makeManager(manager);
   I.scope_mgr = makeManager(manager);
@@ -152,6 +163,9 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
     obj->setUserData(tag(j + 1));
     I.colon_boxes.push_back(box);
     I.colon_objs.push_back(std::move(obj));
+    auto exact_box = std::make_shared<fcl::Boxd>(1.0, 1.0, 1.0);
+    I.colon_exact.push_back(std::make_unique<fcl::CollisionObjectd>(exact_box));
+    I.colon_exact_boxes.push_back(exact_box);
   }
   // A scope segment and its interaction points fit in a cube of half-side sqrt((h/2)^2 + r^2).
   const double half = std::sqrt(0.25 * m.scope.h_m * m.scope.h_m + m.scope.radius_m * m.scope.radius_m);
@@ -161,8 +175,10 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
     obj->setUserData(tag(-(k + 1)));
     I.scope_objs.push_back(std::move(obj));
   }
+  I.fat_m = fat_margin_m > 0 ? fat_margin_m : 0.0;
   for (int i = 0; i < m.colon.n; ++i) {
-    auto obj = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::Sphered>(m.colon.radius_m(i)));
+    const double r = m.colon.radius_m(i) + 0.5 * I.fat_m;
+    auto obj = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::Sphered>(r));
     obj->setUserData(tag(i + 1));
     I.sphere_objs.push_back(std::move(obj));
   }
@@ -186,6 +202,9 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
   I.scope_mgr->setup();
   I.sphere_mgr->setup();
   I.pairs.reserve(64 * m.scope.segment_count);
+  I.fat_pairs.reserve(128 * m.scope.segment_count);
+  I.self_fat_pairs.reserve(32 * m.colon.n);
+  I.scope_p_built.resize(m.scope.segment_count);
   I.self_pairs.reserve(16 * m.colon.n);
   I.first.resize(m.scope.segment_count + 1);
   I.fill.reserve(std::max(nseg, m.scope.segment_count) + 1);
@@ -214,20 +233,52 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
                          (b3 - I.mid[j]).norm()});
     const double inflate = std::max(colon.radius_m(j), colon.radius_m(j + 1)) + m.contact.query_margin_m;
     const Vec3 lo = I.lo[j].array() - inflate, hi = I.hi[j].array() + inflate;
-    I.colon_boxes[j]->side = hi - lo;
-    I.colon_boxes[j]->computeLocalAABB();
-    I.colon_objs[j]->setTranslation(0.5 * (lo + hi));
-    I.colon_objs[j]->computeAABB();
+    I.colon_exact_boxes[j]->side = hi - lo;
+    I.colon_exact_boxes[j]->computeLocalAABB();
+    I.colon_exact[j]->setTranslation(0.5 * (lo + hi));
+    I.colon_exact[j]->computeAABB();
   }
   for (int k = 0; k < m.scope.segment_count; ++k) {
     I.scope_objs[k]->setTranslation(k < s.scope.inside ? s.scope.p_W[k] : Vec3(1e3 + k, 1e3, 1e3));
     I.scope_objs[k]->computeAABB();
   }
-  I.colon_mgr->update();
-  I.scope_mgr->update();
+  // The managers' pairs, of the bounds fattened by fat_m when they were last updated, hold
+  // every pair of exact bounds overlapping now while 2 D_colon + D_scope <= fat_m, with D
+  // the largest move of a control point or a scope segment's centre since: a colon box
+  // follows its Bezier points, each a combination of control points whose weights' sizes
+  // sum to at most 2. Past that (or when segments enter or leave), the managers are updated.
+  bool rebuild = !I.wall_built || s.scope.inside != I.inside_built || !(I.fat_m > 0);
+  if (!rebuild) {
+    double dq2 = 0, dp2 = 0;
+    for (int i = 0; i < colon.n; ++i) dq2 = std::max(dq2, (s.colon.q.col(i) - I.wall_q_built.col(i)).squaredNorm());
+    for (int k = 0; k < s.scope.inside; ++k) dp2 = std::max(dp2, (s.scope.p_W[k] - I.scope_p_built[k]).squaredNorm());
+    rebuild = !(2.0 * std::sqrt(dq2) + std::sqrt(dp2) <= 0.9 * I.fat_m);  // 10 % for the bounds' rounding
+  }
+  if (rebuild) {
+    for (int j = 0; j < nseg; ++j) {
+      const double inflate = std::max(colon.radius_m(j), colon.radius_m(j + 1)) + m.contact.query_margin_m;
+      const Vec3 lo = (I.lo[j].array() - inflate) - I.fat_m, hi = (I.hi[j].array() + inflate) + I.fat_m;
+      I.colon_boxes[j]->side = hi - lo;
+      I.colon_boxes[j]->computeLocalAABB();
+      I.colon_objs[j]->setTranslation(0.5 * (lo + hi));
+      I.colon_objs[j]->computeAABB();
+    }
+    I.colon_mgr->update();
+    I.scope_mgr->update();
+    I.fat_pairs.clear();
+    PairCollector collector{&I.fat_pairs};
+    I.colon_mgr->collide(I.scope_mgr.get(), &collector, collectPair);
+    I.wall_q_built = s.colon.q;
+    for (int k = 0; k < s.scope.inside; ++k) I.scope_p_built[k] = s.scope.p_W[k];
+    I.inside_built = s.scope.inside;
+    I.wall_built = true;
+    ++I.wall_rebuilds;
+  }
+  // This step's candidates: the pairs whose exact bounds overlap, by FCL's own test, so
+  // the same pairs as a broadphase of the exact bounds finds.
   I.pairs.clear();
-  PairCollector collector{&I.pairs};
-  I.colon_mgr->collide(I.scope_mgr.get(), &collector, collectPair);
+  for (const auto& pr : I.fat_pairs)
+    if (I.colon_exact[pr.first]->getAABB().overlap(I.scope_objs[pr.second]->getAABB())) I.pairs.push_back(pr);
   // Candidates grouped by scope segment, each group in ascending colon segment order: the
   // result does not depend on the tree's traversal order. Two stable counting sorts (by
   // colon segment, then by scope segment) give that order without comparisons (the sort
@@ -250,22 +301,40 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
 
 void FclContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {
   Impl& I = *impl_;
-  for (int i = 0; i < m.colon.n; ++i) {
-    I.sphere_objs[i]->setTranslation(s.colon.q.col(i));
-    I.sphere_objs[i]->computeAABB();
+  // The manager's spheres are fattened by fat_m / 2 each: its pairs of when it was last
+  // updated hold every pair overlapping now while no control point has moved more than
+  // fat_m / 2 since. The exact test (selfOverlap) then decides, so the contacts are those
+  // of the exact spheres whatever the fat.
+  bool rebuild = !I.self_built || !(I.fat_m > 0);
+  if (!rebuild) {
+    double dq2 = 0;
+    for (int i = 0; i < m.colon.n; ++i) dq2 = std::max(dq2, (s.colon.q.col(i) - I.self_q_built.col(i)).squaredNorm());
+    rebuild = !(2.0 * std::sqrt(dq2) <= 0.9 * I.fat_m);
   }
-  I.sphere_mgr->update();
-  I.self_pairs.clear();
-  PairCollector collector{&I.self_pairs};
-  I.sphere_mgr->collide(&collector, collectPair);
-  for (auto& pr : I.self_pairs)
-    if (pr.first > pr.second) std::swap(pr.first, pr.second);
-  std::sort(I.self_pairs.begin(), I.self_pairs.end());
+  if (rebuild) {
+    for (int i = 0; i < m.colon.n; ++i) {
+      I.sphere_objs[i]->setTranslation(s.colon.q.col(i));
+      I.sphere_objs[i]->computeAABB();
+    }
+    I.sphere_mgr->update();
+    I.self_fat_pairs.clear();
+    PairCollector collector{&I.self_fat_pairs};
+    I.sphere_mgr->collide(&collector, collectPair);
+    for (auto& pr : I.self_fat_pairs)
+      if (pr.first > pr.second) std::swap(pr.first, pr.second);
+    std::sort(I.self_fat_pairs.begin(), I.self_fat_pairs.end());
+    I.self_q_built = s.colon.q;
+    I.self_built = true;
+    ++I.self_rebuilds;
+  }
   s.self.clear();
   SelfContact c;
-  for (const auto& [a, b] : I.self_pairs)
+  for (const auto& [a, b] : I.self_fat_pairs)
     if (selfOverlap(m, s.colon, a, b, &c)) s.self.push_back(c);
 }
+
+long FclContactQuery::wallRebuilds() const { return impl_->wall_rebuilds; }
+long FclContactQuery::selfRebuilds() const { return impl_->self_rebuilds; }
 
 std::unique_ptr<ContactQuery> makeContactQuery(const WorldModel& model, const std::string& mode) {
   if (mode == "scan") return std::make_unique<ScanContactQuery>(model);

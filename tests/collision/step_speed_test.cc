@@ -3,6 +3,7 @@
 // new to count allocations.
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <new>
 
@@ -76,6 +77,39 @@ TEST(StepLanes, TwoLanesGiveTheSameStatesAsOne) {
   EXPECT_EQ(one.self.size(), two.self.size());
 }
 
+// The broadphase's fat bounds (a Verlet list, updated only when the colon or the scope has
+// moved by the margin) give the states of bounds updated at every step, bit for bit, while
+// the scope is pushed, turned and steered against the wall; and they do skip updates.
+TEST(FatBounds, GiveTheSameStatesAsBoundsUpdatedEveryStep) {
+  const WorldModel m = adultWorld();
+  WorldState exact = makeWorldState(m);
+  threadScopeAlongColon(m, exact, 0.6);
+  WorldState fat = exact, fatter = exact;
+  FclContactQuery q_exact(m, "dynamic_aabb_tree", 0.0), q_fat(m), q_fatter(m, "dynamic_aabb_tree", 0.02);
+  const HandleInput start = exact.scope.input;
+  const int steps = 1500;
+  size_t contacts = 0;
+  for (int k = 0; k < steps; ++k) {
+    const HandleInput in = scripted(start, k);
+    stepWorld(m, exact, in, q_exact, kDt);
+    stepWorld(m, fat, in, q_fat, kDt);
+    stepWorld(m, fatter, in, q_fatter, kDt);
+    contacts += exact.wall.size() + exact.self.size();
+    if (k % 50 == 49) {
+      ASSERT_EQ(hashWorldState(fat), hashWorldState(exact)) << "step " << k;
+      ASSERT_EQ(hashWorldState(fatter), hashWorldState(exact)) << "step " << k;
+    }
+  }
+  EXPECT_GT(contacts, static_cast<size_t>(steps));  // the comparison covered steps with contacts
+  EXPECT_EQ(q_exact.wallRebuilds(), steps);
+  EXPECT_EQ(q_exact.selfRebuilds(), steps);
+  EXPECT_LT(q_fat.wallRebuilds(), steps / 2);
+  EXPECT_LT(q_fat.selfRebuilds(), steps / 2);
+  EXPECT_LT(q_fatter.wallRebuilds(), q_fat.wallRebuilds());
+  std::printf("updates of the broadphase over %d steps: wall %ld (fat 2 mm), %ld (20 mm); self %ld, %ld\n", steps,
+              q_fat.wallRebuilds(), q_fatter.wallRebuilds(), q_fat.selfRebuilds(), q_fatter.selfRebuilds());
+}
+
 // Once running (its vectors at their sizes), a step of the world allocates nothing: FCL's
 // broadphase update and query, the tracking, the forces and both solves, on one lane and
 // on two.
@@ -96,6 +130,15 @@ TEST(StepAllocations, AStepAllocatesNothingOnceRunning) {
     EXPECT_EQ(g_allocations.load(), 0) << (l ? "two lanes" : "one lane");
     EXPECT_GT(s.wall.size(), 20u);
   }
+  // Moving (the broadphase updated now and then): after the same warm-up, nothing either.
+  const long updates_before = q.wallRebuilds();
+  for (int k = 0; k < 300; ++k) stepWorld(m, s, scripted(start, -k), q, kDt);
+  g_allocations = 0;
+  g_counting = true;
+  for (int k = 300; k < 500; ++k) stepWorld(m, s, scripted(start, -k), q, kDt);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0) << "moving";
+  EXPECT_GT(q.wallRebuilds() - updates_before, 10);
 }
 
 // The counter counts: a step from a fresh query (its scratch vectors empty) allocates.
