@@ -232,6 +232,7 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
     I.rho[j] = std::max({(b0 - I.mid[j]).norm(), (b1 - I.mid[j]).norm(), (b2 - I.mid[j]).norm(),
                          (b3 - I.mid[j]).norm()});
     const double inflate = std::max(colon.radius_m(j), colon.radius_m(j + 1)) + m.contact.query_margin_m;
+    if (!(I.fat_m > 0)) continue;  // the managers' boxes are the exact ones
     const Vec3 lo = I.lo[j].array() - inflate, hi = I.hi[j].array() + inflate;
     I.colon_exact_boxes[j]->side = hi - lo;
     I.colon_exact_boxes[j]->computeLocalAABB();
@@ -277,8 +278,12 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
   // This step's candidates: the pairs whose exact bounds overlap, by FCL's own test, so
   // the same pairs as a broadphase of the exact bounds finds.
   I.pairs.clear();
-  for (const auto& pr : I.fat_pairs)
-    if (I.colon_exact[pr.first]->getAABB().overlap(I.scope_objs[pr.second]->getAABB())) I.pairs.push_back(pr);
+  if (!(I.fat_m > 0)) {
+    I.pairs.assign(I.fat_pairs.begin(), I.fat_pairs.end());
+  } else {
+    for (const auto& pr : I.fat_pairs)
+      if (I.colon_exact[pr.first]->getAABB().overlap(I.scope_objs[pr.second]->getAABB())) I.pairs.push_back(pr);
+  }
   // Candidates grouped by scope segment, each group in ascending colon segment order: the
   // result does not depend on the tree's traversal order. Two stable counting sorts (by
   // colon segment, then by scope segment) give that order without comparisons (the sort
