@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 
 #include <Eigen/Geometry>
 
@@ -68,27 +69,43 @@ double closedWrithe(const std::vector<Vec3>& polyline_m) {
   if (p.size() > 1 && (p.back() - p.front()).norm() < 1e-9) p.pop_back();
   const int m = static_cast<int>(p.size());  // edges of the closed polygon: i -> i + 1 (mod m)
   if (m < 4) return 0.0;                     // a triangle is planar
-  auto unit = [](const Vec3& a) -> Vec3 {
-    const double l = a.norm();
-    return l > 0 ? Vec3(a / l) : Vec3::Zero();
+  // The unit vectors between every two vertices (each pair of edges uses four of them).
+  thread_local std::vector<Vec3> u;
+  u.resize(static_cast<size_t>(m) * m);
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j) {
+      const Vec3 d = p[j] - p[i];
+      const double l = d.norm();
+      u[i * m + j] = l > 0 ? Vec3(d / l) : Vec3::Zero();
+      u[j * m + i] = -u[i * m + j];
+    }
+  // Solid angle of the spherical triangle of unit vectors a, b, c, signed by their
+  // orientation (Van Oosterom & Strackee 1983): omega / 2 = arg(1 + a.b + b.c + c.a + i [a b c]).
+  auto triangle = [](const Vec3& a, const Vec3& b, const Vec3& c) {
+    return std::complex<double>(1.0 + a.dot(b) + b.dot(c) + c.dot(a), a.dot(b.cross(c)));
   };
-  auto asinClamped = [](double x) { return std::asin(std::clamp(x, -1.0, 1.0)); };
   double sum_sr = 0.0;  // sum of signed solid angles over unordered pairs of edges [sr]
   for (int i = 0; i < m; ++i) {
+    const int i2 = (i + 1) % m;
     const Vec3& p1 = p[i];
-    const Vec3& p2 = p[(i + 1) % m];
+    const Vec3& p2 = p[i2];
     for (int j = i + 2; j < m; ++j) {
       if (i == 0 && j == m - 1) continue;  // the closing edge is adjacent to edge 0
-      const Vec3& p3 = p[j];
-      const Vec3& p4 = p[(j + 1) % m];
-      // Klenin & Langowski (2000), method 1a: the solid angle under which edge j is seen
-      // from all points of edge i, over 4 pi, is the pair's contribution to the Gauss integral.
-      const Vec3 r13 = p3 - p1, r14 = p4 - p1, r23 = p3 - p2, r24 = p4 - p2;
-      const Vec3 n1 = unit(r13.cross(r14)), n2 = unit(r14.cross(r24));
-      const Vec3 n3 = unit(r24.cross(r23)), n4 = unit(r23.cross(r13));
-      const double omega = asinClamped(n1.dot(n2)) + asinClamped(n2.dot(n3)) + asinClamped(n3.dot(n4)) +
-                           asinClamped(n4.dot(n1));
-      const double orient = (p4 - p3).cross(p2 - p1).dot(r13);
+      const int j2 = (j + 1) % m;
+      // The solid angle under which edge j is seen from all points of edge i, over 4 pi, is
+      // the pair's contribution to the Gauss integral (Klenin & Langowski 2000, method 1a):
+      // the quadrilateral of directions r13, r14, r24, r23, here as two triangles.
+      const Vec3& a = u[i * m + j];    // r13
+      const Vec3& b = u[i * m + j2];   // r14
+      const Vec3& c = u[i2 * m + j2];  // r24
+      const Vec3& d = u[i2 * m + j];   // r23
+      // The two halves' arguments add by multiplying (one arctangent): the quadrilateral's
+      // solid angle is at most 2 pi, so its half stays within the argument's range.
+      const std::complex<double> z1 = triangle(a, b, c), z2 = triangle(a, c, d);
+      const double re = z1.real() * z2.real() - z1.imag() * z2.imag();
+      const double im = z1.real() * z2.imag() + z1.imag() * z2.real();
+      const double omega = std::abs(2.0 * std::atan2(im, re));
+      const double orient = (p[j2] - p[j]).cross(p2 - p1).dot(p[j] - p1);
       if (orient > 0) sum_sr += omega;
       else if (orient < 0) sum_sr -= omega;
     }

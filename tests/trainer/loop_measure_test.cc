@@ -2,6 +2,7 @@
 // closes a loop whose turning number is counted; curves that do not cross count 0.
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -123,6 +124,48 @@ double gaussIntegralWrithe(const std::vector<Vec3>& open, int nodes) {
     }
   }
   return sum / (4 * kPi);
+}
+
+// The pair formula as Klenin & Langowski write it (method 1a: four face normals and four
+// arcsines per pair of edges), for the closed polygon of `open`.
+double kleninLangowskiWrithe(const std::vector<Vec3>& p) {
+  const int m = static_cast<int>(p.size());
+  auto unit = [](const Vec3& a) -> Vec3 {
+    const double l = a.norm();
+    return l > 0 ? Vec3(a / l) : Vec3::Zero();
+  };
+  auto asinClamped = [](double x) { return std::asin(std::clamp(x, -1.0, 1.0)); };
+  double sum = 0.0;
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 2; j < m; ++j) {
+      if (i == 0 && j == m - 1) continue;
+      const Vec3 &p1 = p[i], &p2 = p[(i + 1) % m], &p3 = p[j], &p4 = p[(j + 1) % m];
+      const Vec3 r13 = p3 - p1, r14 = p4 - p1, r23 = p3 - p2, r24 = p4 - p2;
+      const Vec3 n1 = unit(r13.cross(r14)), n2 = unit(r14.cross(r24));
+      const Vec3 n3 = unit(r24.cross(r23)), n4 = unit(r23.cross(r13));
+      const double omega = asinClamped(n1.dot(n2)) + asinClamped(n2.dot(n3)) + asinClamped(n3.dot(n4)) +
+                           asinClamped(n4.dot(n1));
+      const double orient = (p4 - p3).cross(p2 - p1).dot(r13);
+      sum += orient > 0 ? omega : (orient < 0 ? -omega : 0.0);
+    }
+  return sum / (2.0 * kPi);
+}
+
+// The measure's two triangles per pair of edges against the four arcsines, on random closed
+// polygons (knotted and not) and on the lifted alpha loops.
+TEST(LoopWrithe, AgreesWithKleninAndLangowskisPairFormula) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0.0, 0.03);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Vec3> p;
+    for (int i = 0; i < 8 + 3 * trial; ++i) p.emplace_back(g(rng), g(rng), g(rng));
+    const double want = kleninLangowskiWrithe(p);
+    EXPECT_NEAR(closedWrithe(p), want, 1e-11 * std::max(1.0, std::abs(want))) << "trial " << trial;
+  }
+  for (double lift_m : {0.004, 0.00025}) {
+    const std::vector<Vec3> a = liftedAlpha(1, lift_m);
+    EXPECT_NEAR(closedWrithe(a), kleninLangowskiWrithe(a), 1e-11) << lift_m;
+  }
 }
 
 TEST(LoopWrithe, PlanarCurvesHaveNone) {
