@@ -30,6 +30,13 @@ bool selfOverlap(const WorldModel& m, const ColonState& cs, int a, int b, SelfCo
   return true;
 }
 
+// The largest distance any control point has moved from `then` to `now` [m].
+double largestMove(const Points& now, const Points& then) {
+  double d2 = 0;
+  for (Eigen::Index i = 0; i < now.cols(); ++i) d2 = std::max(d2, (now.col(i) - then.col(i)).squaredNorm());
+  return std::sqrt(d2);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------
@@ -103,13 +110,15 @@ struct FclContactQuery::Impl final : TrackingCandidates {
   std::vector<Vec3> scope_p_built;    // the scope segments' centres then [m]
   int inside_built = -1;
   bool wall_built = false, self_built = false;
-  std::vector<std::pair<int, int>> fat_pairs, self_fat_pairs;  // the managers' pairs then
+  // The managers' pairs then: the wall's, and the self query's own (it may run beside the
+  // wall query).
+  std::vector<std::pair<int, int>> fat_pairs, self_fat_pairs;
   long wall_rebuilds = 0, self_rebuilds = 0;
+  std::vector<double> inflate;  // per colon segment: its larger radius and the query margin [m]
   std::vector<Vec3> lo, hi;  // bounds of each colon segment's centreline [m]
   std::vector<Vec3> mid;     // centre of each segment's Bezier hull ...
   std::vector<double> rho;   // ... and the radius of a ball around it holding the segment [m]
   std::vector<std::pair<int, int>> pairs;
-  std::vector<std::pair<int, int>> self_pairs;  // the self query's own (it may run beside the wall query)
   std::vector<int> first;    // per scope segment: start of its candidates in `pairs` (K + 1)
   std::vector<int> fill;
   std::vector<std::pair<int, int>> grouped;
@@ -157,7 +166,9 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
   I.hi.resize(nseg);
   I.mid.resize(nseg);
   I.rho.resize(nseg);
+  I.inflate.resize(nseg);
   for (int j = 0; j < nseg; ++j) {
+    I.inflate[j] = std::max(m.colon.radius_m(j), m.colon.radius_m(j + 1)) + m.contact.query_margin_m;
     auto box = std::make_shared<fcl::Boxd>(1.0, 1.0, 1.0);
     auto obj = std::make_unique<fcl::CollisionObjectd>(box);
     obj->setUserData(tag(j + 1));
@@ -205,7 +216,6 @@ FclContactQuery::FclContactQuery(const WorldModel& m, const std::string& manager
   I.fat_pairs.reserve(128 * m.scope.segment_count);
   I.self_fat_pairs.reserve(32 * m.colon.n);
   I.scope_p_built.resize(m.scope.segment_count);
-  I.self_pairs.reserve(16 * m.colon.n);
   I.first.resize(m.scope.segment_count + 1);
   I.fill.reserve(std::max(nseg, m.scope.segment_count) + 1);
 }
@@ -231,9 +241,8 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
     I.mid[j] = 0.25 * (b0 + b1 + b2 + b3);
     I.rho[j] = std::max({(b0 - I.mid[j]).norm(), (b1 - I.mid[j]).norm(), (b2 - I.mid[j]).norm(),
                          (b3 - I.mid[j]).norm()});
-    const double inflate = std::max(colon.radius_m(j), colon.radius_m(j + 1)) + m.contact.query_margin_m;
     if (!(I.fat_m > 0)) continue;  // the managers' boxes are the exact ones
-    const Vec3 lo = I.lo[j].array() - inflate, hi = I.hi[j].array() + inflate;
+    const Vec3 lo = I.lo[j].array() - I.inflate[j], hi = I.hi[j].array() + I.inflate[j];
     I.colon_exact_boxes[j]->side = hi - lo;
     I.colon_exact_boxes[j]->computeLocalAABB();
     I.colon_exact[j]->setTranslation(0.5 * (lo + hi));
@@ -250,15 +259,14 @@ void FclContactQuery::findWallContacts(const WorldModel& m, WorldState& s) {
   // sum to at most 2. Past that (or when segments enter or leave), the managers are updated.
   bool rebuild = !I.wall_built || s.scope.inside != I.inside_built || !(I.fat_m > 0);
   if (!rebuild) {
-    double dq2 = 0, dp2 = 0;
-    for (int i = 0; i < colon.n; ++i) dq2 = std::max(dq2, (s.colon.q.col(i) - I.wall_q_built.col(i)).squaredNorm());
+    double dp2 = 0;
     for (int k = 0; k < s.scope.inside; ++k) dp2 = std::max(dp2, (s.scope.p_W[k] - I.scope_p_built[k]).squaredNorm());
-    rebuild = !(2.0 * std::sqrt(dq2) + std::sqrt(dp2) <= 0.9 * I.fat_m);  // 10 % for the bounds' rounding
+    // 10 % for the bounds' rounding.
+    rebuild = !(2.0 * largestMove(s.colon.q, I.wall_q_built) + std::sqrt(dp2) <= 0.9 * I.fat_m);
   }
   if (rebuild) {
     for (int j = 0; j < nseg; ++j) {
-      const double inflate = std::max(colon.radius_m(j), colon.radius_m(j + 1)) + m.contact.query_margin_m;
-      const Vec3 lo = (I.lo[j].array() - inflate) - I.fat_m, hi = (I.hi[j].array() + inflate) + I.fat_m;
+      const Vec3 lo = (I.lo[j].array() - I.inflate[j]) - I.fat_m, hi = (I.hi[j].array() + I.inflate[j]) + I.fat_m;
       I.colon_boxes[j]->side = hi - lo;
       I.colon_boxes[j]->computeLocalAABB();
       I.colon_objs[j]->setTranslation(0.5 * (lo + hi));
@@ -311,11 +319,7 @@ void FclContactQuery::findSelfContacts(const WorldModel& m, WorldState& s) {
   // fat_m / 2 since. The exact test (selfOverlap) then decides, so the contacts are those
   // of the exact spheres whatever the fat.
   bool rebuild = !I.self_built || !(I.fat_m > 0);
-  if (!rebuild) {
-    double dq2 = 0;
-    for (int i = 0; i < m.colon.n; ++i) dq2 = std::max(dq2, (s.colon.q.col(i) - I.self_q_built.col(i)).squaredNorm());
-    rebuild = !(2.0 * std::sqrt(dq2) <= 0.9 * I.fat_m);
-  }
+  if (!rebuild) rebuild = !(2.0 * largestMove(s.colon.q, I.self_q_built) <= 0.9 * I.fat_m);
   if (rebuild) {
     for (int i = 0; i < m.colon.n; ++i) {
       I.sphere_objs[i]->setTranslation(s.colon.q.col(i));

@@ -30,7 +30,6 @@ inline void addBlock(BandedSpd& a, int I, int J, const Mat3& B, double scale = 1
   }
 }
 
-
 // y.col(i) += s * sum_l A(i, l) x.col(l) for a scalar band matrix A over control points.
 void addScalarBandTimes(const ScalarBand& A, const double* x, double s, double* y) {
   const int n = A.size(), b = A.halfBandwidth();
