@@ -117,6 +117,23 @@ Scenario scenarioFromJson(const nlohmann::json& j, const std::string& path) {
     }
   }
 
+  if (top.has("patient_turns")) {
+    const nlohmann::json& list = top.raw("patient_turns");
+    if (!list.is_array() || list.empty() || list.size() > 100)
+      top.fail("patient_turns", "expected a list of 1 to 100 turns");
+    for (size_t i = 0; i < list.size(); ++i) {
+      JsonObject a(list[i], path, "patient_turns[" + std::to_string(i) + "]");
+      PatientTurn turn;
+      turn.at_s = a.number("at_s", 0.0, s.duration_s);
+      if (!s.patient_turns.empty() && !(turn.at_s > s.patient_turns.back().at_s))
+        a.fail("at_s", "must be after the previous turn's (" + std::to_string(s.patient_turns.back().at_s) + " s)");
+      turn.position = a.choice("position", patientPositions());
+      a.ignore("note");
+      a.finish();
+      s.patient_turns.push_back(turn);
+    }
+  }
+
   if (top.has("scoring")) {
     JsonObject sc = top.object("scoring");
     ScoreOptions& so = s.scoring;

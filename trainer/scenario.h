@@ -65,6 +65,15 @@ struct AbdominalPressure {
   double damping_Ns_per_m2 = 0.0;   ///< c [N s/m per m]
 };
 
+/// A change of the patient's position at a time of the script (a scripted manoeuvre; the
+/// trainee's own turns are session assist lines): from the first step starting at or after
+/// at_s, gravity turns about the body's long axis to `position`'s over
+/// WorldSimulation::kTurnDuration_s, as for a trainee's call (WorldSimulation::assist).
+struct PatientTurn {
+  double at_s = 0.0;     ///< [s], strictly increasing along the list
+  std::string position;  ///< left_lateral | right_lateral | supine | prone
+};
+
 struct Scenario {
   std::string name;
   std::string description;
@@ -97,6 +106,7 @@ struct Scenario {
   ScenarioOverrides overrides;
   ScoreOptions scoring;       ///< thresholds (defaults unless the file sets them)
   std::vector<AbdominalPressure> abdominal_pressure;  ///< optional, in file order
+  std::vector<PatientTurn> patient_turns;             ///< optional, in time order
   std::vector<Keyframe> script;
 
   /// Number of steps of the scripted run: round(duration_s / dt_s).

@@ -76,6 +76,7 @@ StartSpec startSpecOf(const Scenario& scenario) {
   spec.shape_region = scenario.start.shape_region;
   spec.shape_points_m = scenario.start.shape_points_m;
   spec.abdominal_pressure = scenario.abdominal_pressure;
+  spec.patient_turns = scenario.patient_turns;
   if (!scenario.script.empty()) spec.first_input = scenario.script.front().input;
   spec.file = scenario.file;
   return spec;

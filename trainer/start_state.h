@@ -26,6 +26,7 @@ struct StartSpec {
   std::string shape_region;
   std::vector<Vec3> shape_points_m;  ///< waypoints in the patient frame [m]
   std::vector<AbdominalPressure> abdominal_pressure;  ///< in scenario order
+  std::vector<PatientTurn> patient_turns;             ///< in time order (applied by WorldSimulation)
   /// The scope is threaded along the colon to this input's insertion and rotation, and
   /// holds it (clamped to the scope model's range).
   HandleInput first_input;

@@ -245,11 +245,12 @@ Scenario caseScenario(const Study& study, const StudyCase& c) {
   const SeedVariant v = seedVariant(study.seeds[c.seed]);
   if (v.operator_speed != 1.0) {
     // The operator's pace: the script after the scored start runs operator_speed times
-    // faster (time-warped about the start), and so does the abdominal pressure.
+    // faster (time-warped about the start), and so do the abdominal pressure and the turns.
     const double t0 = sc.scoring.start_s, f = v.operator_speed;
     auto warp = [t0, f](double t) { return t <= t0 ? t : t0 + (t - t0) / f; };
     for (Keyframe& k : sc.script) k.t_s = warp(k.t_s);
     for (AbdominalPressure& a : sc.abdominal_pressure) a.from_s = warp(a.from_s), a.to_s = warp(a.to_s);
+    for (PatientTurn& turn : sc.patient_turns) turn.at_s = warp(turn.at_s);
     sc.duration_s = warp(sc.duration_s);
   }
   return sc;

@@ -116,29 +116,33 @@ void WorldSimulation::assist(const AssistInput& a) {
   }
   if (a.patient_position != assist_.patient_position) {
     // Empty: back to the position the run started in.
-    const std::string target = a.patient_position.empty() ? start_position_ : a.patient_position;
-    Vec3 g_to;
-    try {
-      g_to = gravityForPosition(target, 1.0);
-    } catch (const std::invalid_argument& e) {
-      throw InputError(std::string("patient_position: ") + e.what());
-    }
-    const Vec3& g = model_.colon.gravity_m_per_s2;
-    const double from_rad = std::atan2(g.y(), g.x());
-    double by_rad = std::remainder(std::atan2(g_to.y(), g_to.x()) - from_rad, 2 * kPi);
-    // Half a turn either way: through the side whose middle has gravity more posterior
-    // (lateral to lateral over the back), ties towards the patient's left (supine to prone
-    // over the left side).
-    if (std::abs(std::abs(by_rad) - kPi) < 1e-9) {
-      auto preference = [](double angle_rad) { return std::sin(angle_rad) + 1e-6 * std::cos(angle_rad); };
-      by_rad = preference(from_rad + kPi / 2) >= preference(from_rad - kPi / 2) ? kPi : -kPi;
-    }
-    turn_from_rad_ = from_rad;
-    turn_by_rad_ = by_rad;
-    turn_start_s_ = t_s;
-    position_ = target;
+    startTurn(a.patient_position.empty() ? start_position_ : a.patient_position);
   }
   assist_ = a;
+}
+
+void WorldSimulation::startTurn(const std::string& target) {
+  const double t_s = state_.colon.time_s;
+  Vec3 g_to;
+  try {
+    g_to = gravityForPosition(target, 1.0);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(std::string("patient_position: ") + e.what());
+  }
+  const Vec3& g = model_.colon.gravity_m_per_s2;
+  const double from_rad = std::atan2(g.y(), g.x());
+  double by_rad = std::remainder(std::atan2(g_to.y(), g_to.x()) - from_rad, 2 * kPi);
+  // Half a turn either way: through the side whose middle has gravity more posterior
+  // (lateral to lateral over the back), ties towards the patient's left (supine to prone
+  // over the left side).
+  if (std::abs(std::abs(by_rad) - kPi) < 1e-9) {
+    auto preference = [](double angle_rad) { return std::sin(angle_rad) + 1e-6 * std::cos(angle_rad); };
+    by_rad = preference(from_rad + kPi / 2) >= preference(from_rad - kPi / 2) ? kPi : -kPi;
+  }
+  turn_from_rad_ = from_rad;
+  turn_by_rad_ = by_rad;
+  turn_start_s_ = t_s;
+  position_ = target;
 }
 
 void WorldSimulation::turnGravity(double t_s) {
@@ -162,6 +166,8 @@ void WorldSimulation::restart(const StartSpec& start) {
     model_.colon.gravity_m_per_s2 = model_.scope.gravity_m_per_s2 = start_gravity_;
   }
   dt_s_ = start.dt_s;
+  turns_ = start.patient_turns;
+  next_turn_ = 0;
   StartState s = makeStartState(model_, start, query_.get());
   state_ = std::move(s.state);
   pressure_ = std::move(s.pressure);
@@ -192,6 +198,10 @@ void WorldSimulation::setSupport(double t_s) {
 void WorldSimulation::step(const HandleInput& in) {
   // The pressure in force over this step: the ramp at the step's start time.
   if (!pressure_.empty()) setSupport(state_.colon.time_s);
+  // The scenario's turns of the patient: each from the first step starting at or after its
+  // time (half a step's tolerance for the clock's rounding).
+  while (next_turn_ < turns_.size() && turns_[next_turn_].at_s <= state_.colon.time_s + 0.5 * dt_s_)
+    startTurn(turns_[next_turn_++].position);
   turnGravity(state_.colon.time_s);
   stepWorld(model_, state_, in, *query_, dt_s_);
   measure();

@@ -100,6 +100,10 @@ class WorldSimulation : public Simulation {
   double turn_from_rad_ = 0, turn_by_rad_ = 0, turn_start_s_ = -1;  ///< gravity's angle about +z
   double gravity_norm_ = 0;         ///< |g| [m/s^2]
   void turnGravity(double t_s);
+  /// Starts turning the patient to `target` (a patientPositions() name) now.
+  void startTurn(const std::string& target);
+  std::vector<PatientTurn> turns_;  ///< the scenario's patient_turns
+  size_t next_turn_ = 0;            ///< the first of turns_ not yet begun
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
   std::vector<double> region_ratio_;  ///< scratch: storage of Telemetry::region_length_ratio [-]

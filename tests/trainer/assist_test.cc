@@ -130,6 +130,40 @@ TEST(Assist, TurningThePatientRotatesGravityAboutTheLongAxis) {
   EXPECT_THROW(sim.assist(assistOf(false, "standing")), InputError);
 }
 
+// A scenario's patient_turns turn the patient as a trainee's call does: a run with a turn
+// to supine at 0.2 s is bit-identical to one whose trainee asks for it before the step
+// starting at 0.2 s, and gravity ends posterior (the patient on the back) after the turn.
+TEST(Assist, AScenariosPatientTurnIsATraineesCallAtItsTime) {
+  Scenario scripted = findScenario("free_insertion");  // left lateral
+  scripted.patient_turns = {{0.2, "supine"}};
+  Scenario called = findScenario("free_insertion");
+  WorldSimulation a(scripted), b(called);
+  const double g = a.model().colon.gravity_m_per_s2.norm();
+  const long turn_step = std::lround(0.2 / a.dt_s());
+  const long steps = std::lround((0.2 + WorldSimulation::kTurnDuration_s + 0.1) / a.dt_s());
+  for (long k = 0; k < steps; ++k) {
+    const HandleInput in = scriptedInput(called.script, static_cast<double>(k) * a.dt_s());
+    if (k == turn_step) b.assist(assistOf(false, "supine"));
+    if (k == turn_step - 1) {
+      a.step(in);
+      b.step(in);
+      EXPECT_NEAR((a.model().colon.gravity_m_per_s2 - Vec3(g, 0, 0)).norm(), 0.0, 1e-12) << "not turned before its time";
+      continue;
+    }
+    a.step(in);
+    b.step(in);
+  }
+  EXPECT_EQ(a.stateHash(), b.stateHash());
+  EXPECT_EQ(a.telemetry().patient_position, "supine");
+  EXPECT_FALSE(a.telemetry().patient_turning);
+  EXPECT_NEAR((a.model().colon.gravity_m_per_s2 - Vec3(0, g, 0)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(a.model().colon.gravity_m_per_s2, b.model().colon.gravity_m_per_s2);
+  // Restarted, the run turns again at its time: the same state.
+  WorldSimulation c(scripted);
+  for (long k = 0; k < steps; ++k) c.step(scriptedInput(called.script, static_cast<double>(k) * c.dt_s()));
+  EXPECT_EQ(c.stateHash(), a.stateHash());
+}
+
 // The largest displacement of the sigmoid's control points from `from` [m].
 double sigmoidMoved(const WorldSimulation& sim, const Points& from) {
   const ColonModel& c = sim.model().colon;

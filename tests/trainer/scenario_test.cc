@@ -225,6 +225,40 @@ TEST(Scenario, AbdominalPressureIsReadStrictly) {
                          {no_region + ":7: abdominal_pressure[1].region: no region 'appendix' in the anatomy"});
 }
 
+// smallScenarioText with a patient_turns list (line 7) of these entries.
+std::string withTurns(const std::string& list) {
+  return replaced(test::smallScenarioText(), "\"script\": [", "\"patient_turns\": " + list + ",\n  \"script\": [");
+}
+
+TEST(Scenario, PatientTurnsAreReadStrictly) {
+  test::TempDir dir;
+  const Scenario ok = loadScenario(dir.write(
+      "ok.json", withTurns(R"([{"at_s": 0.5, "position": "supine", "note": "onto the back"}, {"at_s": 1.5, "position": "right_lateral"}])")));
+  ASSERT_EQ(ok.patient_turns.size(), 2u);
+  EXPECT_EQ(ok.patient_turns[0].at_s, 0.5);
+  EXPECT_EQ(ok.patient_turns[0].position, "supine");
+  EXPECT_EQ(ok.patient_turns[1].position, "right_lateral");
+  EXPECT_TRUE(loadScenario(dir.write("none.json", test::smallScenarioText())).patient_turns.empty());
+  struct Case {
+    std::string list, fragment;
+  };
+  const std::vector<Case> cases = {
+      {"[]", ":7: patient_turns: expected a list of 1 to 100"},
+      {R"([{"at_s": 0.5, "position": "standing"}])", ":7: patient_turns[0].position:"},
+      {R"([{"at_s": 0.5}])", ":7: patient_turns[0].position"},
+      {R"([{"at_s": 9.0, "position": "supine"}])", ":7: patient_turns[0].at_s: 9 is out of range"},
+      {R"([{"at_s": 1.0, "position": "supine"}, {"at_s": 1.0, "position": "prone"}])",
+       ":7: patient_turns[1].at_s: must be after the previous turn's"},
+      {R"([{"at_s": 0.5, "position": "supine", "speed": 2}])", ":7: patient_turns[0].speed: unknown key"},
+      {R"([{"at_s": NaN, "position": "supine"}])", "line 7"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.list);
+    const std::string path = dir.write("bad.json", withTurns(c.list));
+    test::expectInputError([&] { loadScenario(path); }, {path, c.fragment});
+  }
+}
+
 // The pressure changes the run only while it is on: the colon settling under gravity with
 // the scope out, the pressed sigmoid (held from 0.2 s where it then lies) sags a few
 // millimetres where the free one sags centimetres; a run with it replays bit-identically
