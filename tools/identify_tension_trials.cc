@@ -171,6 +171,8 @@ int main(int argc, char** argv) {
     o.named = classOf(r.effects, cls);
     o.gain = r.heldout_rmse_ratio;
     o.unexplained = r.unexplained;
+    o.bench["hold_decay"] = {{"holds", r.hold_decay.holds}, {"decay_N", r.hold_decay.decay_N},
+                             {"sd_N", r.hold_decay.sd_N}, {"relative", r.hold_decay.relative}};
     for (const ParamEstimate& p : r.extended.params) o.fitted[p.name] = p.value;
     if (o.named == o.hidden) {
       // Two fitted relaxation branches are compared in the order of their time constants.

@@ -462,6 +462,59 @@ std::vector<bool> toeRows(const Data& d, const IdentifyResult& seg) {
   return toe;
 }
 
+// The force's decay at held strain (HoldDecay), from a model's residual: each hold at
+// positive strain, from kHoldSettleS after it began, with at least kHoldMinS left, gives the
+// mean of its first third minus the mean of its last third; the noise per row is estimated
+// from successive differences within the hold.
+constexpr double kHoldSettleS = 1.0;
+constexpr double kHoldMinS = 2.0;
+// Holds are flat when their summed decay is within kFlatHoldZ standard deviations of zero.
+// Calibrated on hidden-effect trials (harder forms, seeds 10001-10030, 330 cases): without
+// relaxation hidden, |z| <= 3.5 (stiffening, a set, none) or z <= -11.6 (softening that
+// recovers at rest: the force rises); with relaxation, z >= 15.3, or below -5 when recovering
+// softening outweighs it.
+constexpr double kFlatHoldZ = 6.0;
+constexpr int kFlatHoldMinHolds = 2;
+
+bool holdsAreFlat(const HoldDecay& h) { return h.holds >= kFlatHoldMinHolds && std::abs(h.z()) < kFlatHoldZ; }
+
+HoldDecay holdDecay(const Data& d, const IdentifyResult& seg, const FittedModel& m) {
+  const TensionTest& t = *d.test;
+  const size_t n = t.rows();
+  HoldDecay h;
+  double var = 0, force = 0;
+  auto measure = [&](size_t a, size_t b) {  // rows [a, b) of one hold, settled
+    if (b <= a || t.time_s[b - 1] - t.time_s[a] < kHoldMinS) return;
+    double strain = 0;
+    for (size_t k = a; k < b; ++k) strain += d.strain[k];
+    if (strain / (b - a) <= 0.1 * d.max_strain) return;
+    const size_t third = (b - a) / 3;
+    if (third < 2) return;
+    double first = 0, last = 0, f = 0, diff2 = 0;
+    for (size_t k = a; k < a + third; ++k) first += t.force_N[k] - m.prediction_N[k];
+    for (size_t k = b - third; k < b; ++k) last += t.force_N[k] - m.prediction_N[k];
+    for (size_t k = a; k < b; ++k) f += t.force_N[k];
+    for (size_t k = a + 1; k < b; ++k) {
+      const double r1 = t.force_N[k] - m.prediction_N[k], r0 = t.force_N[k - 1] - m.prediction_N[k - 1];
+      diff2 += (r1 - r0) * (r1 - r0);
+    }
+    const double row_var = diff2 / (2.0 * (b - a - 1));
+    h.decay_N += (first - last) / third;
+    var += 2.0 * row_var / third;
+    force += f / (b - a);
+    ++h.holds;
+  };
+  size_t a = n;
+  for (size_t k = 0; k <= n; ++k) {
+    const bool held = k < n && seg.time_in_hold_s[k] >= kHoldSettleS;
+    if (held && a == n) a = k;
+    if (!held && a != n) measure(a, k), a = n;
+  }
+  h.sd_N = std::sqrt(var);
+  h.relative = force > 0 ? h.decay_N / force : 0.0;
+  return h;
+}
+
 // RMS residual of a fitted model over the rows with mask[k] (0 without rows) [N].
 double maskedRmse(const Data& d, const std::vector<bool>& mask, const FittedModel& m) {
   double s = 0;
@@ -610,6 +663,14 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
   s += "  Where it fails (RMS of the binned mean residual):";
   for (const ResidualProfile& p : bd.profiles) s += " " + p.variable + fmt(" %.4f N;", p.structure_N);
   s += "\n";
+  const HoldDecay& h = r.hold_decay;
+  if (h.holds > 0)
+    s += fmt("At held strain (%.0f holds), the force decays by %.4f N in all (%.1f standard deviations", h.holds, h.decay_N,
+             h.z()) +
+         fmt(", %.2f %% of the force): ", 100 * h.relative) +
+         (holdsAreFlat(h) ? "flat holds, so relaxation is not a candidate.\n"
+          : h.z() > 0    ? "the signature of relaxation.\n"
+                         : "the force recovers at rest.\n");
   int round = 0;
   for (const CandidateEvidence& e : r.evidence) {
     if (e.round != round) {
@@ -624,7 +685,11 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
     }
     s += "  " + (e.round == 2 ? joinOrNone(e.model) : e.effect) + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
          fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) +
-         (e.signature_rmse_N >= 0 ? fmt(", toe of the reloadings %.4f N", e.signature_rmse_N) : "") + (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
+         (e.signature_rmse_N >= 0 ? fmt(", toe of the reloadings %.4f N", e.signature_rmse_N) : "") +
+         (holdsAreFlat(h) && std::find(e.model.begin(), e.model.end(), "stress_relaxation") != e.model.end()
+              ? "  (no decay at held strain)"
+              : "") +
+         (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
   }
   if (!r.refuted_effects.empty()) {
     s += "Cause: none. The selection chose " + joinOrNone(r.refuted_effects) +
@@ -689,6 +754,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   };
   const Fit base = fitModel(w, {}, {thetaFrom(layout(w, {}), start, {})}, wr.fold, o.folds);
   fitted();
+  r.hold_decay = holdDecay(w, wr, base.model);
 
   // Round 1: each effect alone. Relaxation is fitted with one Maxwell branch, then with a
   // second started from the first (tau split fivefold either way); the second branch is
@@ -705,7 +771,16 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     fitted();
   });
   std::vector<Candidate> round1(n_effects);
-  for (size_t i = 0; i < n_effects; ++i) round1[i].effect = names[i], round1[i].score = singles[i].model;
+  // Relaxation without decay at held strain is not relaxation (HoldDecay): with flat holds,
+  // no model with it is a candidate.
+  const bool flat_holds = holdsAreFlat(r.hold_decay);
+  auto relaxes = [&](const std::vector<std::string>& e) {
+    return std::find(e.begin(), e.end(), "stress_relaxation") != e.end();
+  };
+  for (size_t i = 0; i < n_effects; ++i) {
+    round1[i].effect = names[i], round1[i].score = singles[i].model;
+    round1[i].admissible = !(flat_holds && relaxes(singles[i].model.effects));
+  }
   const int first = weighRound(1, base.model, round1, o, &r.evidence);
   Fit current = first >= 0 ? singles[first] : base;
   if (first >= 0) r.effects = {names[first]};
@@ -739,7 +814,10 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       fitted();
     });
     std::vector<Candidate> round2(pairs.size());
-    for (size_t i = 0; i < pairs.size(); ++i) round2[i].effect = names[pairs[i].second], round2[i].score = cands[i].model;
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      round2[i].effect = names[pairs[i].second], round2[i].score = cands[i].model;
+      round2[i].admissible = !(flat_holds && relaxes(cands[i].model.effects));
+    }
     IdentifyOptions pair_rule = o;
     pair_rule.min_heldout_ratio = std::max(o.min_heldout_ratio, o.min_pair_heldout_ratio);
     const size_t ev0 = r.evidence.size();

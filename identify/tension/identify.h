@@ -31,6 +31,20 @@ struct FittedModel : ModelScore {
   std::string lawName() const { return effects.empty() ? "voigt" : "extended"; }
 };
 
+/// The signature of relaxation (issue 17): the force decays while the strain is held. Over
+/// the holds at positive strain (after kHoldSettleS, so that the actuator has stopped),
+/// the baseline's residual averaged over the first third of each hold minus its average
+/// over the last third. Data whose holds show no decay are not explained by relaxation,
+/// however well a relaxing law fits them elsewhere (through a slack bench, relaxation
+/// mimics a permanent set).
+struct HoldDecay {
+  int holds = 0;         ///< holds measured
+  double decay_N = 0;    ///< summed decay over the holds [N]
+  double sd_N = 0;       ///< its standard deviation from the residual's noise [N]
+  double relative = 0;   ///< summed decay over the summed force at the holds [-]
+  double z() const { return sd_N > 0 ? decay_N / sd_N : 0.0; }
+};
+
 struct IdentifyResult {
   FittedModel baseline;                 ///< the Voigt law (eq. 6)
   FittedModel extended;                 ///< with the chosen effects (= baseline if none)
@@ -48,6 +62,7 @@ struct IdentifyResult {
   std::vector<int> fold;                ///< cross-validation fold of each row
   std::vector<double> time_in_hold_s;   ///< time since the hold began, -1 outside holds
   int cycles = 0;
+  HoldDecay hold_decay;                 ///< the force's decay at held strain
   int working_rows = 0;                 ///< rows of the (block-averaged) selection set
   std::string diagnosis;                ///< the text of the diagnosis, for people
 };

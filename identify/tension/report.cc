@@ -33,6 +33,8 @@ nlohmann::json identifyJson(const TensionTest& t, const IdentifyResult& r) {
   j["rows"] = t.rows();
   j["sample_length_m"] = t.sample_length_m;
   j["cycles"] = r.cycles;
+  j["hold_decay"] = {{"holds", r.hold_decay.holds}, {"decay_N", r.hold_decay.decay_N}, {"sd_N", r.hold_decay.sd_N},
+                     {"relative", r.hold_decay.relative}};
   j["baseline"] = modelJson(r.baseline);
   j["extended"] = modelJson(r.extended);
   addSelectionJson(selectionSummary(r),

@@ -253,3 +253,36 @@ TEST(Identify, NamesRelaxationWithTwoTimesAndRecoversBoth) {
 
 }  // namespace
 }  // namespace colosim
+
+namespace colosim {
+namespace {
+
+// Relaxation's signature is the force decaying while the strain is held. A set in a form no
+// law of colosim has (trial bench, harder forms) leaves the holds flat, and relaxation, which
+// mimics a set through the slack bench, is then not named; relaxation in its harder forms
+// (a continuous spectrum, many branches) makes the holds decay and is named. Seeds apart
+// from the trials' (1-100) and their calibration's (10001+); 50 Hz to keep the test small.
+TEST(Identify, NamesRelaxationOnlyWhereTheForceDecaysAtHeldStrain) {
+  auto relaxes = [](const std::vector<std::string>& e) {
+    return std::find(e.begin(), e.end(), "stress_relaxation") != e.end();
+  };
+  for (uint64_t seed = 20001; seed <= 20004; ++seed) {
+    for (const char* effect : {"permanent_set", "stress_relaxation"}) {
+      TrialSpec spec = drawTrialSpec(seed, {effect}, TrialForms::kHarder);
+      spec.sample_rate_hz = 50;
+      const IdentifyResult r = identifyTension(generateTrialTest(spec));
+      ASSERT_GE(r.hold_decay.holds, 4) << effect << ", seed " << seed;
+      if (std::string(effect) == "permanent_set") {
+        EXPECT_LT(std::abs(r.hold_decay.z()), 5.0) << "seed " << seed;
+        EXPECT_FALSE(relaxes(r.effects)) << "seed " << seed;
+      } else {
+        EXPECT_GT(r.hold_decay.z(), 10.0) << "seed " << seed;
+        EXPECT_GT(r.hold_decay.relative, 0.005) << "seed " << seed;
+        EXPECT_EQ(r.effects, std::vector<std::string>{effect}) << "seed " << seed;
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace colosim
