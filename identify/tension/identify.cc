@@ -477,6 +477,7 @@ constexpr double kFlatHoldZ = 6.0;
 constexpr int kFlatHoldMinHolds = 2;
 
 bool holdsAreFlat(const HoldDecay& h) { return h.holds >= kFlatHoldMinHolds && std::abs(h.z()) < kFlatHoldZ; }
+bool forceRecovers(const HoldDecay& h) { return h.holds >= kFlatHoldMinHolds && h.z() <= -kFlatHoldZ; }
 
 HoldDecay holdDecay(const Data& d, const IdentifyResult& seg, const FittedModel& m) {
   const TensionTest& t = *d.test;
@@ -822,6 +823,25 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     pair_rule.min_heldout_ratio = std::max(o.min_heldout_ratio, o.min_pair_heldout_ratio);
     const size_t ev0 = r.evidence.size();
     int best = weighRound(2, current.model, round2, pair_rule, &r.evidence);
+    // Force that recovers at held strain (HoldDecay z below -kFlatHoldZ) is the signature of
+    // softening that heals at rest, which the softening law has not: its misfit is the size
+    // of the first effect's, so a pair with softening pays by the rule of a single effect.
+    if (forceRecovers(r.hold_decay)) {
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        CandidateEvidence& e = r.evidence[ev0 + i];
+        const std::vector<std::string>& m = cands[i].model.effects;
+        if (!e.pays && round2[i].admissible && std::find(m.begin(), m.end(), "cyclic_softening") != m.end() &&
+            candidatePays(e.heldout_ratio, e.delta_bic, o))
+          e.pays = true;
+      }
+      best = -1;
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        CandidateEvidence& e = r.evidence[ev0 + i];
+        e.chosen = false;
+        if (e.pays && (best < 0 || e.heldout_ratio > r.evidence[ev0 + best].heldout_ratio)) best = static_cast<int>(i);
+      }
+      if (best >= 0) r.evidence[ev0 + best].chosen = true;
+    }
     // Signatures: a set with a stiffening curve can mimic softening (a shifted exponential is
     // a scaled one) and relaxation can mimic a set, everywhere but at the toe of the
     // reloadings, where force starts. Among the paying pairs whose held-out ratio is within

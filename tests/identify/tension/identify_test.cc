@@ -286,3 +286,31 @@ TEST(Identify, NamesRelaxationOnlyWhereTheForceDecaysAtHeldStrain) {
 
 }  // namespace
 }  // namespace colosim
+
+namespace colosim {
+namespace {
+
+// Force that rises while the strain is held is softening that heals at rest, a form the
+// softening law has not (trial bench, harder forms). Beside a stiffening curve that is not
+// Fung's, its misfit is the size of the curve's own, and the pair paid by 1.25 in 4 of 30
+// calibration cases; with the signature it needs the single effect's 1.05 (seeds 1-100:
+// 68 of 100 pairs named). Seeds apart from the trials' and their calibration's; 50 Hz.
+// The pair is not always named (the healed softening can be too small to pay even 1.05),
+// so the test asks for most of twelve seeds.
+TEST(Identify, NamesSofteningBesideStiffeningWhereTheForceRecoversAtRest) {
+  int named = 0;
+  for (uint64_t seed = 20001; seed <= 20012; ++seed) {
+    TrialSpec spec = drawTrialSpec(seed, {"strain_stiffening", "cyclic_softening"}, TrialForms::kHarder);
+    spec.sample_rate_hz = 50;
+    const IdentifyResult r = identifyTension(generateTrialTest(spec));
+    EXPECT_LT(r.hold_decay.z(), -10.0) << "seed " << seed;
+    EXPECT_LT(r.hold_decay.relative, -0.003) << "seed " << seed;
+    std::vector<std::string> e = r.effects;
+    std::sort(e.begin(), e.end());
+    named += e == std::vector<std::string>{"cyclic_softening", "strain_stiffening"};
+  }
+  EXPECT_GE(named, 8);  // when written: 9 of 12, and 5 of 12 without the signature
+}
+
+}  // namespace
+}  // namespace colosim
