@@ -178,6 +178,7 @@ void WorldSimulation::restart(const StartSpec& start) {
     sigmoid_last_ = j + 1;
   }
   loop_last_ = sigmoid_last_;
+  writhe_step_ = -1;
   for (int j = 0; j + 1 < model_.colon.n; ++j)
     if (model_.colon.region_names[model_.colon.segment_region[j]] == "descending") loop_last_ = j + 1;
   measure();
@@ -347,7 +348,15 @@ void WorldSimulation::measure() {
     t.loop_turns = crossingLoopTurns(line, Vec3(0, -1, 0));
     // The same line in 3-D, closed far away: out of the anus against the entry direction,
     // and up (cranially, along the descending colon) from its far end.
-    t.loop_writhe = writheClosedFarAway(line, -scope.R_W_entry.col(2), Vec3(0, 0, 1));
+    // Measured at the steps that are multiples of kWritheEverySteps, and at the first step
+    // of a sampling interval the run enters otherwise (a start or a restart between them).
+    const long step = std::lround(s.colon.time_s / dt_s_);
+    if (writhe_step_ < 0 || step < writhe_step_ || step % kWritheEverySteps == 0 ||
+        step / kWritheEverySteps != writhe_step_ / kWritheEverySteps) {
+      loop_writhe_ = writheClosedFarAway(line, -scope.R_W_entry.col(2), Vec3(0, 0, 1));
+      writhe_step_ = step;
+    }
+    t.loop_writhe = loop_writhe_;
   }
 
   // The view from the tip: red-out, lumen ahead, wall patches seen.

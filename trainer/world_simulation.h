@@ -106,6 +106,11 @@ class WorldSimulation : public Simulation {
   size_t next_turn_ = 0;            ///< the first of turns_ not yet begun
   int loop_last_ = -1;  ///< the loop measure follows the scope up to this control point (end of the descending colon)
   std::vector<Vec3> loop_line_;  ///< scratch: the scope polyline of the loop measure [m]
+  /// The loop's writhe is measured every kWritheEverySteps steps (10 ms at 1 ms: loops form
+  /// and go over seconds) and held in between; it took 15 % of a run at every step.
+  static constexpr long kWritheEverySteps = 10;
+  long writhe_step_ = -1;     ///< step (time / dt) at which loop_writhe_ was measured, -1: none
+  double loop_writhe_ = 0.0;  ///< the last measured writhe [turns]
   std::vector<double> region_ratio_;  ///< scratch: storage of Telemetry::region_length_ratio [-]
   std::vector<double> lumen_arc_;  ///< scratch of checkLumen: present arclength at each control point [m]
 };

@@ -14,6 +14,7 @@
 
 #include "trainer/assets.h"
 #include "trainer/scenario.h"
+#include "trainer/start_state.h"
 #include "trainer/world_simulation.h"
 
 namespace colosim {
@@ -127,6 +128,35 @@ TEST(Pleating, AHookedWithdrawalGathersTheSigmoidOntoTheScope) {
   EXPECT_GT(smooth.tip_back_m, 0.05) << "on a smooth tube the hook slides back more than a third of the 15 cm";
   EXPECT_LT(folds.sigmoid_least, smooth.sigmoid_least - 0.05) << "the held colon is gathered onto the scope";
   EXPECT_LT(folds.sigmoid_least, 0.80) << "the issue's pleating: below 80 % of the sigmoid's rest length";
+}
+
+}  // namespace
+}  // namespace colosim
+
+namespace colosim {
+namespace {
+
+// The loop's writhe is measured every 10 ms and held in between (it cost 15 % of a run at
+// every step): on the shipped untwist it changes only at multiples of 10 steps, and a run
+// restarted reads a fresh value at once.
+TEST(LoopMechanics, TheWritheIsSampledEveryTenSteps) {
+  const Scenario sc = findScenario("sigmoid_untwist");
+  WorldSimulation sim(sc);
+  double last = sim.telemetry().loop_writhe;
+  int changes = 0;
+  for (long k = 1; k <= 1500; ++k) {
+    sim.step(scriptedInput(sc.script, static_cast<double>(k - 1) * sim.dt_s()));
+    const double w = sim.telemetry().loop_writhe;
+    if (w != last) {
+      EXPECT_EQ(k % 10, 0) << "step " << k;
+      ++changes;
+    }
+    last = w;
+  }
+  EXPECT_GT(changes, 100);
+  EXPECT_GT(std::abs(last), 0.5) << "the shipped loop at 1.5 s";
+  sim.restart(startSpecOf(sc));
+  EXPECT_NE(sim.telemetry().loop_writhe, last) << "measured again at the restart";
 }
 
 }  // namespace
