@@ -39,7 +39,7 @@ int weighRound(int round, const ModelScore& current, const std::vector<Candidate
     e.heldout_ratio = current.heldout_rmse_N / std::max(c.score.heldout_rmse_N, 1e-300);
     e.delta_aic = c.score.aic - current.aic;
     e.delta_bic = c.score.bic - current.bic;
-    e.pays = c.admissible && candidatePays(e.heldout_ratio, e.delta_bic, o);
+    e.pays = c.admissible && e.heldout_ratio >= c.min_heldout_ratio && candidatePays(e.heldout_ratio, e.delta_bic, o);
     e.simulations = c.simulations;
     evidence->push_back(e);
     if (e.pays && (best < 0 || e.heldout_ratio > (*evidence)[first + best].heldout_ratio))

@@ -64,6 +64,8 @@ struct Candidate {
   double value = 0;         ///< fitted magnitude of the effect, when the source has one
   int simulations = 0;      ///< simulations it cost, when the source counts them
   bool admissible = true;   ///< false: not a real candidate (e.g. its best magnitude is 0)
+  /// Held-out ratio this candidate must reach besides the rule's (0: the rule's alone).
+  double min_heldout_ratio = 0;
 };
 
 /// What one test of one candidate measured.

@@ -30,6 +30,7 @@
 #include "core/extended_tension_law.h"
 #include "identify/report.h"
 #include "identify/tension/identify.h"
+#include "identify/tension/report.h"
 #include "identify/tension/trial_bench.h"
 #include "tools/confusion_plot.h"
 
@@ -171,8 +172,7 @@ int main(int argc, char** argv) {
     o.named = classOf(r.effects, cls);
     o.gain = r.heldout_rmse_ratio;
     o.unexplained = r.unexplained;
-    o.bench["hold_decay"] = {{"holds", r.hold_decay.holds}, {"decay_N", r.hold_decay.decay_N},
-                             {"sd_N", r.hold_decay.sd_N}, {"relative", r.hold_decay.relative}};
+    o.bench["hold_decay"] = holdDecayJson(r.hold_decay);
     for (const ParamEstimate& p : r.extended.params) o.fitted[p.name] = p.value;
     if (o.named == o.hidden) {
       // Two fitted relaxation branches are compared in the order of their time constants.

@@ -476,6 +476,10 @@ constexpr double kHoldMinS = 2.0;
 constexpr double kFlatHoldZ = 6.0;
 constexpr int kFlatHoldMinHolds = 2;
 
+bool hasEffect(const std::vector<std::string>& effects, const char* name) {
+  return std::find(effects.begin(), effects.end(), name) != effects.end();
+}
+
 bool holdsAreFlat(const HoldDecay& h) { return h.holds >= kFlatHoldMinHolds && std::abs(h.z()) < kFlatHoldZ; }
 bool forceRecovers(const HoldDecay& h) { return h.holds >= kFlatHoldMinHolds && h.z() <= -kFlatHoldZ; }
 
@@ -687,9 +691,7 @@ std::string diagnosisText(const IdentifyResult& r, const IdentifyOptions& o) {
     s += "  " + (e.round == 2 ? joinOrNone(e.model) : e.effect) + fmt(": held-out RMSE %.4f N (ratio %.3f), ", e.heldout_rmse_N, e.heldout_ratio) +
          fmt("dBIC %.1f, dAIC %.1f", e.delta_bic, e.delta_aic) +
          (e.signature_rmse_N >= 0 ? fmt(", toe of the reloadings %.4f N", e.signature_rmse_N) : "") +
-         (holdsAreFlat(h) && std::find(e.model.begin(), e.model.end(), "stress_relaxation") != e.model.end()
-              ? "  (no decay at held strain)"
-              : "") +
+         (holdsAreFlat(h) && hasEffect(e.model, "stress_relaxation") ? "  (no decay at held strain)" : "") +
          (e.chosen ? "  <- chosen" : e.pays ? "  (pays, not best)" : "") + "\n";
   }
   if (!r.refuted_effects.empty()) {
@@ -775,12 +777,9 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   // Relaxation without decay at held strain is not relaxation (HoldDecay): with flat holds,
   // no model with it is a candidate.
   const bool flat_holds = holdsAreFlat(r.hold_decay);
-  auto relaxes = [&](const std::vector<std::string>& e) {
-    return std::find(e.begin(), e.end(), "stress_relaxation") != e.end();
-  };
   for (size_t i = 0; i < n_effects; ++i) {
     round1[i].effect = names[i], round1[i].score = singles[i].model;
-    round1[i].admissible = !(flat_holds && relaxes(singles[i].model.effects));
+    round1[i].admissible = !(flat_holds && hasEffect(singles[i].model.effects, "stress_relaxation"));
   }
   const int first = weighRound(1, base.model, round1, o, &r.evidence);
   Fit current = first >= 0 ? singles[first] : base;
@@ -814,34 +813,20 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       cands[i] = fitModel(w, {names[a], names[b]}, starts, wr.fold, o.folds, two_relax);
       fitted();
     });
+    // A second effect pays by min_pair_heldout_ratio. Force that recovers at held strain
+    // (HoldDecay z below -kFlatHoldZ) is the signature of softening that heals at rest, which
+    // the softening law has not: its misfit is the size of the first effect's, so a pair with
+    // softening then pays by the rule of a single effect.
+    const bool heals = forceRecovers(r.hold_decay);
     std::vector<Candidate> round2(pairs.size());
     for (size_t i = 0; i < pairs.size(); ++i) {
+      const std::vector<std::string>& m = cands[i].model.effects;
       round2[i].effect = names[pairs[i].second], round2[i].score = cands[i].model;
-      round2[i].admissible = !(flat_holds && relaxes(cands[i].model.effects));
+      round2[i].admissible = !(flat_holds && hasEffect(m, "stress_relaxation"));
+      if (!(heals && hasEffect(m, "cyclic_softening"))) round2[i].min_heldout_ratio = o.min_pair_heldout_ratio;
     }
-    IdentifyOptions pair_rule = o;
-    pair_rule.min_heldout_ratio = std::max(o.min_heldout_ratio, o.min_pair_heldout_ratio);
     const size_t ev0 = r.evidence.size();
-    int best = weighRound(2, current.model, round2, pair_rule, &r.evidence);
-    // Force that recovers at held strain (HoldDecay z below -kFlatHoldZ) is the signature of
-    // softening that heals at rest, which the softening law has not: its misfit is the size
-    // of the first effect's, so a pair with softening pays by the rule of a single effect.
-    if (forceRecovers(r.hold_decay)) {
-      for (size_t i = 0; i < pairs.size(); ++i) {
-        CandidateEvidence& e = r.evidence[ev0 + i];
-        const std::vector<std::string>& m = cands[i].model.effects;
-        if (!e.pays && round2[i].admissible && std::find(m.begin(), m.end(), "cyclic_softening") != m.end() &&
-            candidatePays(e.heldout_ratio, e.delta_bic, o))
-          e.pays = true;
-      }
-      best = -1;
-      for (size_t i = 0; i < pairs.size(); ++i) {
-        CandidateEvidence& e = r.evidence[ev0 + i];
-        e.chosen = false;
-        if (e.pays && (best < 0 || e.heldout_ratio > r.evidence[ev0 + best].heldout_ratio)) best = static_cast<int>(i);
-      }
-      if (best >= 0) r.evidence[ev0 + best].chosen = true;
-    }
+    int best = weighRound(2, current.model, round2, o, &r.evidence);
     // Signatures: a set with a stiffening curve can mimic softening (a shifted exponential is
     // a scaled one) and relaxation can mimic a set, everywhere but at the toe of the
     // reloadings, where force starts. Among the paying pairs whose held-out ratio is within

@@ -26,6 +26,10 @@ void addStructure(const Diagnostics& d, nlohmann::json* j) {
 
 }  // namespace
 
+nlohmann::json holdDecayJson(const HoldDecay& h) {
+  return {{"holds", h.holds}, {"decay_N", h.decay_N}, {"sd_N", h.sd_N}, {"relative", h.relative}};
+}
+
 nlohmann::json identifyJson(const TensionTest& t, const IdentifyResult& r) {
   const IdentifyOptions o;
   nlohmann::json j;
@@ -33,8 +37,7 @@ nlohmann::json identifyJson(const TensionTest& t, const IdentifyResult& r) {
   j["rows"] = t.rows();
   j["sample_length_m"] = t.sample_length_m;
   j["cycles"] = r.cycles;
-  j["hold_decay"] = {{"holds", r.hold_decay.holds}, {"decay_N", r.hold_decay.decay_N}, {"sd_N", r.hold_decay.sd_N},
-                     {"relative", r.hold_decay.relative}};
+  j["hold_decay"] = holdDecayJson(r.hold_decay);
   j["baseline"] = modelJson(r.baseline);
   j["extended"] = modelJson(r.extended);
   addSelectionJson(selectionSummary(r),

@@ -12,6 +12,9 @@
 
 namespace colosim {
 
+/// The force's decay at held strain (HoldDecay) as a JSON object.
+nlohmann::json holdDecayJson(const HoldDecay& h);
+
 /// The result as one JSON object: effects, baseline, extended, gain, unexplained, evidence
 /// (docs/identification.md lists every key).
 nlohmann::json identifyJson(const TensionTest& test, const IdentifyResult& r);

@@ -284,12 +284,6 @@ TEST(Identify, NamesRelaxationOnlyWhereTheForceDecaysAtHeldStrain) {
   }
 }
 
-}  // namespace
-}  // namespace colosim
-
-namespace colosim {
-namespace {
-
 // Force that rises while the strain is held is softening that heals at rest, a form the
 // softening law has not (trial bench, harder forms). Beside a stiffening curve that is not
 // Fung's, its misfit is the size of the curve's own, and the pair paid by 1.25 in 4 of 30
