@@ -348,11 +348,10 @@ void WorldSimulation::measure() {
     t.loop_turns = crossingLoopTurns(line, Vec3(0, -1, 0));
     // The same line in 3-D, closed far away: out of the anus against the entry direction,
     // and up (cranially, along the descending colon) from its far end.
-    // Measured at the steps that are multiples of kWritheEverySteps, and at the first step
-    // of a sampling interval the run enters otherwise (a start or a restart between them).
+    // Measured at the first step of each interval of kWritheEverySteps steps: the multiples
+    // of it, or where a start or a restart (which forgets the last one) lands.
     const long step = std::lround(s.colon.time_s / dt_s_);
-    if (writhe_step_ < 0 || step < writhe_step_ || step % kWritheEverySteps == 0 ||
-        step / kWritheEverySteps != writhe_step_ / kWritheEverySteps) {
+    if (writhe_step_ < 0 || step / kWritheEverySteps != writhe_step_ / kWritheEverySteps) {
       loop_writhe_ = writheClosedFarAway(line, -scope.R_W_entry.col(2), Vec3(0, 0, 1));
       writhe_step_ = step;
     }
