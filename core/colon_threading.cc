@@ -30,26 +30,65 @@ constexpr double kEndHandOver = 0.5;
 /// to the other's interior as the track crossed i: one step at 1.2 mm, 36 N, in a gathered
 /// sigmoid.) `first_chord`, `last_chord`: the chord is at an end of its chain (the
 /// hand-over above).
-void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode& a, const ChainNode& b,
-                   bool first_chord, bool last_chord, std::vector<WallContact>& out) {
+/// The point of segment x-y nearest to q, and its fraction along the segment.
+Vec3 nearestOnSegment(const Vec3& x, const Vec3& y, const Vec3& q, double& w) {
+  const Vec3 d = y - x;
+  const double dd = d.squaredNorm();
+  w = dd > 0 ? std::clamp((q - x).dot(d) / dd, 0.0, 1.0) : 0.0;
+  return x + w * d;
+}
+
+/// The threading contacts of the control points whose places lie between consecutive
+/// chain nodes a and b. `before` and `after` are the chain's nodes next to them (null at an
+/// end of the chain). The scope's axis at control point i is the point of the chain's
+/// polyline nearest q_i among the chord a-b and its neighbours before-a and b-after: the
+/// distance to that union of chords, which is what the depth reads, moves continuously as
+/// a track passes i or flips for a step among control points a gathered colon has brought
+/// within millimetres of one slice (session 23: tracks flipping 11.97 -> 9.999 at the
+/// rectosigmoid junction; with the axis interpolated by track the contact jumped 1-2 mm,
+/// 20-36 N). `first_chord`, `last_chord`: the chord is at an end of its chain (the
+/// hand-over above).
+void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* before, const ChainNode& a,
+                   const ChainNode& b, const ChainNode* after, bool first_chord, bool last_chord,
+                   std::vector<WallContact>& out) {
   const int n = m.colon.n;
   const double behind_m = m.contact.wall_thickness_m - m.scope.radius_m;  // added to r_i [m]
   const double ta = a.track, tb = b.track;
   const int first = std::max(1, static_cast<int>(std::floor(std::min(ta, tb))) + 1);
   const int last = std::min(n - 2, static_cast<int>(std::ceil(std::max(ta, tb))) - 1);
   for (int i = first; i <= last; ++i) {  // ta != tb here: i lies strictly between them
-    const double u = (i - ta) / (tb - ta);
-    const Vec3 y = a.centre + u * (b.centre - a.centre);
     const Vec3 q = s.colon.q.col(i);
+    double w = 0;
+    Vec3 y = nearestOnSegment(a.centre, b.centre, q, w);
+    int segment = w < 0.5 ? a.segment : b.segment;
+    double e2 = (y - q).squaredNorm();
+    if (before) {
+      double wb = 0;
+      const Vec3 yb = nearestOnSegment(before->centre, a.centre, q, wb);
+      if ((yb - q).squaredNorm() < e2) {
+        y = yb;
+        e2 = (yb - q).squaredNorm();
+        segment = wb < 0.5 ? before->segment : a.segment;
+      }
+    }
+    if (after) {
+      double wa = 0;
+      const Vec3 ya = nearestOnSegment(b.centre, after->centre, q, wa);
+      if ((ya - q).squaredNorm() < e2) {
+        y = ya;
+        e2 = (ya - q).squaredNorm();
+        segment = wa < 0.5 ? b.segment : after->segment;
+      }
+    }
     const Vec3 d = y - q;
-    const double e = d.norm();
+    const double e = std::sqrt(e2);
     const double depth = e - (m.colon.radius_m(i) + behind_m);
     if (!(depth > 0)) continue;
     double weight = 1.0;
     if (first_chord) weight = std::min(weight, std::abs(i - ta) / kEndHandOver);
     if (last_chord) weight = std::min(weight, std::abs(tb - i) / kEndHandOver);
     WallContact c;
-    c.scope_segment = u < 0.5 ? a.segment : b.segment;
+    c.scope_segment = segment;
     c.point = 0;
     c.p_W_point = y;
     c.colon_segment = i;
@@ -67,12 +106,23 @@ void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode& a,
 void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector<WallContact>& out) {
   const int slices = m.scope.params.slices_per_segment;
   // The chain of slices from the anus to the tip, as the tracking walks it; a slice
-  // without a track breaks it. A chord is done when the node after it is known (or the
-  // chain ends), to know whether it is the chain's last.
-  ChainNode prev, cur;
-  int count = 0;  // nodes of the current chain so far
+  // without a track breaks it. A window of four nodes: the chord between the middle two
+  // is done when the node after it is known (or the chain ends), with its neighbours.
+  ChainNode node[4];  // node[3] the newest
+  int count = 0;      // nodes of the current chain so far
+  auto chord = [&](bool last) {  // the chord node[1]-node[2], node[3] after it unless last
+    const ChainNode* before = count >= 3 + (last ? 0 : 1) ? &node[0] : nullptr;
+    const ChainNode* after = last ? nullptr : &node[3];
+    const bool first = count == 2 + (last ? 0 : 1);
+    chordContacts(m, s, before, node[1], node[2], after, first, last, out);
+  };
   auto endChain = [&]() {
-    if (count >= 2) chordContacts(m, s, prev, cur, count == 2, true, out);
+    if (count >= 2) {  // the last chord: shift so that it is node[1]-node[2]
+      node[0] = node[1];
+      node[1] = node[2];
+      node[2] = node[3];
+      chord(true);
+    }
     count = 0;
   };
   for (int k = s.scope.inside - 1; k >= 0; --k) {
@@ -82,11 +132,12 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
         endChain();
         continue;
       }
-      const ChainNode next{k, t.colon_segment + t.p, sliceCentre(m.scope, s.scope, k, sl)};
-      if (count >= 2) chordContacts(m, s, prev, cur, count == 2, false, out);
-      prev = cur;
-      cur = next;
+      node[0] = node[1];
+      node[1] = node[2];
+      node[2] = node[3];
+      node[3] = ChainNode{k, t.colon_segment + t.p, sliceCentre(m.scope, s.scope, k, sl)};
       ++count;
+      if (count >= 3) chord(false);
     }
   }
   endChain();

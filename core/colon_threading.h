@@ -11,12 +11,12 @@
 //
 // Threading contacts sample the same wall at the colon's own control points. Every
 // control point i whose place along the colon lies between the tracks of two consecutive
-// slices a and b (anus to tip) has the scope's axis there at
-//   y = c_a + u (c_b - c_a),  u = (i - t_a) / (t_b - t_a),
-// c the slices' centres and t their tracks (segment + p): the point of the chord as far
-// along it as i is between the tracks, so that y moves continuously as a track passes a
-// control point. Where the scope's surface lies beyond the wall's thickness at that
-// cross-section
+// slices a and b (anus to tip) has the scope's axis there at y, the point nearest q_i of
+// the chain's polyline of slice centres over the chord a-b and its two neighbours (the
+// chords into a and out of b). Its distance moves continuously as a track passes a
+// control point, and as tracks flip for a step among the control points a gathered colon
+// brings within millimetres of one slice (docs/clinical-mechanics.md, session 27). Where
+// the scope's surface lies beyond the wall's thickness at that cross-section
 //   depth = |y - q_i| - (r_i - r_scope + wall_thickness) > 0,
 // what lies behind the wall pushes back: ContactParams::threading_stiffness_N_per_m per
 // metre of depth (and the wall's damping and friction), on the scope at y and on the colon

@@ -182,17 +182,22 @@ Scenario everythingAtOnce(double time_scale, double knob_scale) {
 // of the loop it leaves, out of the rectum into the sigmoid beside it: a track jump of a
 // third of a metre. The threading contacts (core/colon_threading.h) hold every control
 // point between two slices around the scope, and each variant stays in the lumen.
-// The shipped script (1, 1) no longer reaches a solver limit.
+// A solver limit engages in at most one step of each run: a tip ring point driven 3.5-4
+// mm into the wall at metres per second asks 26-29 N of the 20 N point limit. Which run
+// meets it is decided by the last bits (session 27, the shipped script and eight variants:
+// 0-1 steps each with the threading axis at the chords' nearest point, 0-2 with it
+// interpolated by track, where the shipped script happened to meet none).
 TEST(ExtremeInputs, VariantsOfEverythingAtOnceStayInTheLumen) {
   const ExtremeRun shipped = runExtreme("extreme_all");
   expectSurvived(shipped);
   expectInTheLumen(shipped);
-  EXPECT_EQ(shipped.scores["solver_limited_steps"].get<long>(), 0);
+  EXPECT_LE(shipped.scores["solver_limited_steps"].get<long>(), 1);
   for (const auto& [time_scale, knob_scale] : {std::pair{0.9, 0.8}, std::pair{1.1, 0.8}, std::pair{0.9, 1.0}}) {
     SCOPED_TRACE("time x " + std::to_string(time_scale) + ", knobs x " + std::to_string(knob_scale));
     const ExtremeRun r = runScenario(everythingAtOnce(time_scale, knob_scale), "extreme_all variant");
     expectSurvived(r);
     expectInTheLumen(r);
+    EXPECT_LE(r.scores["solver_limited_steps"].get<long>(), 1);
   }
 }
 
