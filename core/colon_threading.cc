@@ -58,10 +58,13 @@ void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* be
   const int last = std::min(n - 2, static_cast<int>(std::ceil(std::max(ta, tb))) - 1);
   for (int i = first; i <= last; ++i) {  // ta != tb here: i lies strictly between them
     const Vec3 q = s.colon.q.col(i);
+    const double reach_m = m.colon.radius_m(i) + behind_m;  // the depth counts from here
     double w = 0;
     Vec3 y = nearestOnSegment(a.centre, b.centre, q, w);
     int segment = w < 0.5 ? a.segment : b.segment;
     double e2 = (y - q).squaredNorm();
+    // The neighbours can only bring the axis nearer: inside the reach of a-b, no contact.
+    if (!(std::sqrt(e2) > reach_m)) continue;
     if (before) {
       double wb = 0;
       const Vec3 yb = nearestOnSegment(before->centre, a.centre, q, wb);
@@ -82,7 +85,7 @@ void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* be
     }
     const Vec3 d = y - q;
     const double e = std::sqrt(e2);
-    const double depth = e - (m.colon.radius_m(i) + behind_m);
+    const double depth = e - reach_m;
     if (!(depth > 0)) continue;
     double weight = 1.0;
     if (first_chord) weight = std::min(weight, std::abs(i - ta) / kEndHandOver);
