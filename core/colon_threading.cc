@@ -160,9 +160,8 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s) {
   const double f = applyWallContacts(p, m.colon, s.colon, m.scope, s.scope, s.threading, s.colon.loads,
                                      s.scope.loads, &limit);
   s.max_wall_force_N = std::max(s.max_wall_force_N, f);
-  s.contact_limit.limited += limit.limited;
-  s.contact_limit.non_finite += limit.non_finite;
-  s.contact_limit.asked_N = std::max(s.contact_limit.asked_N, limit.asked_N);
+  limit.worst.kind = ContactLimitReport::Worst::Kind::kThreading;
+  s.contact_limit.merge(limit);
 }
 
 }  // namespace colosim

@@ -74,6 +74,11 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
       C *= scale;
       c.normal_force_N *= scale;
       ++rep.limited;
+      if (asked > rep.worst.asked_N) {
+        using Kind = ContactLimitReport::Worst::Kind;
+        rep.worst = {static_cast<size_t>(c.point) < slice_points ? Kind::kSlicePoint : Kind::kTipFace, asked,
+                     c.colon_segment, c.p, c.depth_m, v_n};
+      }
     }
     c.force_N = f_scope.norm();
     max_force = std::max(max_force, c.force_N);

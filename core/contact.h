@@ -3,6 +3,7 @@
 // The geometric queries that find them live in collision/ (FCL); the forces live here.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "core/colon_model.h"
@@ -61,6 +62,23 @@ struct ContactLimitReport {
   int limited = 0;          ///< contacts whose force was scaled down to max_point_force_N
   int non_finite = 0;       ///< contacts dropped because their force was not finite
   double asked_N = 0;       ///< the largest force asked for, before limiting [N]
+  /// The limited contact that asked the most (when limited > 0), to say in the solver-limit
+  /// event what was limited: its kind, where on the colon, how deep and how fast it closed.
+  struct Worst {
+    enum class Kind { kSlicePoint, kTipFace, kThreading } kind = Kind::kSlicePoint;
+    double asked_N = 0;          ///< its force before limiting [N]
+    int colon_segment = -1;      ///< spline segment (a threading contact: its control point)
+    double p = 0;                ///< spline parameter
+    double depth_m = 0;          ///< its depth [m]
+    double closing_m_per_s = 0;  ///< the point's speed into the wall, relative to it [m/s]
+  } worst;
+  /// Counts another report's contacts into this one (the threading contacts' into the wall's).
+  void merge(const ContactLimitReport& other) {
+    limited += other.limited;
+    non_finite += other.non_finite;
+    asked_N = std::max(asked_N, other.asked_N);
+    if (other.limited > 0 && other.worst.asked_N > worst.asked_N) worst = other.worst;
+  }
 };
 
 /// An interaction point of the scope outside the lumen (a query result).

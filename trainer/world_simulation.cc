@@ -243,7 +243,21 @@ void WorldSimulation::updateLimitEvents() {
                   model_.colon.max_speed_m_per_s, s.colon.solver_ok ? 0 : 1, s.scope.solver_ok ? 0 : 1,
                   s.scope.grip_limited ? 1 : 0, s.scope.asked_handle_force_N, model_.scope.params.max_handle_force_N,
                   s.scope.asked_handle_torque_Nm, model_.scope.params.max_handle_torque_Nm);
-    events_.push_back({"solver_limited", buf});
+    std::string detail = buf;
+    if (c.limited > 0) {
+      using Kind = ContactLimitReport::Worst::Kind;
+      const ContactLimitReport::Worst& w = c.worst;
+      if (w.kind == Kind::kThreading)
+        std::snprintf(buf, sizeof buf, "; most asked by a threading contact at control point %d", w.colon_segment);
+      else
+        std::snprintf(buf, sizeof buf, "; most asked by %s at colon segment %d, p %.3f",
+                      w.kind == Kind::kTipFace ? "a tip face point" : "a slice's interaction point", w.colon_segment, w.p);
+      detail += buf;
+      std::snprintf(buf, sizeof buf, ": %.4g N, %.3g mm deep, closing at %.3g m/s", w.asked_N, 1000 * w.depth_m,
+                    w.closing_m_per_s);
+      detail += buf;
+    }
+    events_.push_back({"solver_limited", detail});
   }
   ++limited_run_steps_;
   run_force_N_ = std::max(run_force_N_, s.contact_limit.asked_N);

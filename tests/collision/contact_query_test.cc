@@ -339,6 +339,22 @@ TEST(ContactForces, ForceAboveTheLimitIsScaledDownAndCounted) {
   EXPECT_NEAR(scope_loads[0].stiffness_N_per_m(2, 2), m.contact.wall_stiffness_N_per_m / 3.0,
               1e-6 * m.contact.wall_stiffness_N_per_m);
   EXPECT_TRUE((colon_loads[0].force_N + scope_loads[0].force_N).norm() < 1e-12);
+  // The report says which contact it limited: kind, place, depth and closing speed (the
+  // scope at rest: 0).
+  EXPECT_EQ(rep.worst.kind, ContactLimitReport::Worst::Kind::kSlicePoint);
+  EXPECT_NEAR(rep.worst.asked_N, 3.0 * limit, 1e-6 * limit);
+  EXPECT_EQ(rep.worst.colon_segment, c.colon_segment);
+  EXPECT_EQ(rep.worst.p, c.p);
+  EXPECT_EQ(rep.worst.depth_m, c.depth_m);
+  EXPECT_EQ(rep.worst.closing_m_per_s, 0.0);
+  // A report merged into another keeps the larger worst contact and adds the counts.
+  ContactLimitReport total;
+  total.limited = 2;
+  total.worst.asked_N = 2.0 * limit;
+  total.merge(rep);
+  EXPECT_EQ(total.limited, 3);
+  EXPECT_EQ(total.non_finite, 1);
+  EXPECT_EQ(total.worst.asked_N, rep.worst.asked_N);
   // Below the limit nothing changes.
   contacts = {c};
   contacts[0].depth_m = 0.5 * limit / m.contact.wall_stiffness_N_per_m;

@@ -197,5 +197,21 @@ TEST(ColonThreading, LoadsAreTheThreadingSpringOnBothBodiesOpposite) {
   }
 }
 
+// Beyond the point limit the threading contact is limited like a wall contact, and the
+// step's report names it: a threading contact, at its control point, its depth.
+TEST(ColonThreading, ALimitedContactIsReportedAsThreading) {
+  Threaded t(30000);
+  const double depth_m = 0.001;  // 30 N at 30,000 N/m: over the 20 N point limit
+  t.s.colon.q.col(10).x() += t.threshold_m(10) + depth_m;
+  t.s.contact_limit = ContactLimitReport();
+  applyThreadingContacts(t.m, t.s);
+  EXPECT_EQ(t.s.contact_limit.limited, 1);
+  EXPECT_EQ(t.s.contact_limit.worst.kind, ContactLimitReport::Worst::Kind::kThreading);
+  EXPECT_EQ(t.s.contact_limit.worst.colon_segment, 10);
+  EXPECT_NEAR(t.s.contact_limit.worst.depth_m, depth_m, 1e-9);
+  EXPECT_NEAR(t.s.contact_limit.worst.asked_N, 30000 * depth_m, 1e-6);
+  EXPECT_NEAR(t.s.max_wall_force_N, t.m.contact.max_point_force_N, 1e-9);
+}
+
 }  // namespace
 }  // namespace colosim

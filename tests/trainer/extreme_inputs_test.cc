@@ -182,8 +182,9 @@ Scenario everythingAtOnce(double time_scale, double knob_scale) {
 // of the loop it leaves, out of the rectum into the sigmoid beside it: a track jump of a
 // third of a metre. The threading contacts (core/colon_threading.h) hold every control
 // point between two slices around the scope, and each variant stays in the lumen.
-// A solver limit engages in at most one step of each run: a tip ring point driven 3.5-4
-// mm into the wall at metres per second asks 26-29 N of the 20 N point limit. Which run
+// A solver limit engages in at most one step of each run: in the shipped script a slice's
+// interaction point closing on the wall at 3.8 m/s, 3.7 mm in, asks 29 N of the 20 N point
+// limit (the solver_limited event names it). Which run
 // meets it is decided by the last bits (session 27, the shipped script and eight variants:
 // 0-1 steps each with the threading axis at the chords' nearest point, 0-2 with it
 // interpolated by track, where the shipped script happened to meet none).
