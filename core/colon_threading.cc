@@ -22,14 +22,6 @@ struct ChainNode {
 /// came (the tip pressing the wall ahead of it: 0.7 mm, 22 N in one step).
 constexpr double kEndHandOver = 0.5;
 
-/// The threading contacts of the control points whose places lie between consecutive
-/// chain nodes a and b. The scope's axis at control point i is the point of the chord a-b
-/// at the same fraction of the way as i is of the way from a's track to b's, so that it is
-/// the slice's own centre where i sits on a slice's track, whichever of the slice's two
-/// chords i is counted in. (The chord's point nearest q_i jumped there from one chord's end
-/// to the other's interior as the track crossed i: one step at 1.2 mm, 36 N, in a gathered
-/// sigmoid.) `first_chord`, `last_chord`: the chord is at an end of its chain (the
-/// hand-over above).
 /// The point of segment x-y nearest to q, and its fraction along the segment.
 Vec3 nearestOnSegment(const Vec3& x, const Vec3& y, const Vec3& q, double& w) {
   const Vec3 d = y - x;
@@ -59,30 +51,24 @@ void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* be
   for (int i = first; i <= last; ++i) {  // ta != tb here: i lies strictly between them
     const Vec3 q = s.colon.q.col(i);
     const double reach_m = m.colon.radius_m(i) + behind_m;  // the depth counts from here
-    double w = 0;
-    Vec3 y = nearestOnSegment(a.centre, b.centre, q, w);
-    int segment = w < 0.5 ? a.segment : b.segment;
-    double e2 = (y - q).squaredNorm();
+    Vec3 y;
+    double e2 = 0;
+    int segment = -1;
+    // Takes the nearest point of the chord x-z where it is nearer than the one held.
+    auto consider = [&](const ChainNode& x, const ChainNode& z) {
+      double w = 0;
+      const Vec3 yz = nearestOnSegment(x.centre, z.centre, q, w);
+      const double d2 = (yz - q).squaredNorm();
+      if (segment >= 0 && !(d2 < e2)) return;
+      y = yz;
+      e2 = d2;
+      segment = w < 0.5 ? x.segment : z.segment;
+    };
+    consider(a, b);
     // The neighbours can only bring the axis nearer: inside the reach of a-b, no contact.
     if (!(std::sqrt(e2) > reach_m)) continue;
-    if (before) {
-      double wb = 0;
-      const Vec3 yb = nearestOnSegment(before->centre, a.centre, q, wb);
-      if ((yb - q).squaredNorm() < e2) {
-        y = yb;
-        e2 = (yb - q).squaredNorm();
-        segment = wb < 0.5 ? before->segment : a.segment;
-      }
-    }
-    if (after) {
-      double wa = 0;
-      const Vec3 ya = nearestOnSegment(b.centre, after->centre, q, wa);
-      if ((ya - q).squaredNorm() < e2) {
-        y = ya;
-        e2 = (ya - q).squaredNorm();
-        segment = wa < 0.5 ? b.segment : after->segment;
-      }
-    }
+    if (before) consider(*before, a);
+    if (after) consider(b, *after);
     const Vec3 d = y - q;
     const double e = std::sqrt(e2);
     const double depth = e - reach_m;
@@ -113,19 +99,8 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
   // is done when the node after it is known (or the chain ends), with its neighbours.
   ChainNode node[4];  // node[3] the newest
   int count = 0;      // nodes of the current chain so far
-  auto chord = [&](bool last) {  // the chord node[1]-node[2], node[3] after it unless last
-    const ChainNode* before = count >= 3 + (last ? 0 : 1) ? &node[0] : nullptr;
-    const ChainNode* after = last ? nullptr : &node[3];
-    const bool first = count == 2 + (last ? 0 : 1);
-    chordContacts(m, s, before, node[1], node[2], after, first, last, out);
-  };
-  auto endChain = [&]() {
-    if (count >= 2) {  // the last chord: shift so that it is node[1]-node[2]
-      node[0] = node[1];
-      node[1] = node[2];
-      node[2] = node[3];
-      chord(true);
-    }
+  auto endChain = [&]() {  // its last chord, node[2]-node[3]
+    if (count >= 2) chordContacts(m, s, count >= 3 ? &node[1] : nullptr, node[2], node[3], nullptr, count == 2, true, out);
     count = 0;
   };
   for (int k = s.scope.inside - 1; k >= 0; --k) {
@@ -140,7 +115,8 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
       node[2] = node[3];
       node[3] = ChainNode{k, t.colon_segment + t.p, sliceCentre(m.scope, s.scope, k, sl)};
       ++count;
-      if (count >= 3) chord(false);
+      if (count >= 3)  // the chord node[1]-node[2], with node[3] after it
+        chordContacts(m, s, count >= 4 ? &node[0] : nullptr, node[1], node[2], &node[3], count == 3, false, out);
     }
   }
   endChain();
