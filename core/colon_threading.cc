@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/rotation.h"
+
 namespace colosim {
 
 namespace {
@@ -42,7 +44,7 @@ Vec3 nearestOnSegment(const Vec3& x, const Vec3& y, const Vec3& q, double& w) {
 /// hand-over above).
 void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* before, const ChainNode& a,
                    const ChainNode& b, const ChainNode* after, bool first_chord, bool last_chord,
-                   std::vector<WallContact>& out) {
+                   double margin_m, std::vector<WallContact>& out) {
   const int n = m.colon.n;
   const double behind_m = m.contact.wall_thickness_m - m.scope.radius_m;  // added to r_i [m]
   const double ta = a.track, tb = b.track;
@@ -65,14 +67,15 @@ void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* be
       segment = w < 0.5 ? x.segment : z.segment;
     };
     consider(a, b);
-    // The neighbours can only bring the axis nearer: inside the reach of a-b, no contact.
-    if (!(std::sqrt(e2) > reach_m)) continue;
+    // The neighbours can only bring the axis nearer: inside the reach of a-b (less the
+    // margin), no contact.
+    if (!(std::sqrt(e2) > reach_m - margin_m)) continue;
     if (before) consider(*before, a);
     if (after) consider(b, *after);
     const Vec3 d = y - q;
     const double e = std::sqrt(e2);
     const double depth = e - reach_m;
-    if (!(depth > 0)) continue;
+    if (!(depth > -margin_m)) continue;
     double weight = 1.0;
     if (first_chord) weight = std::min(weight, std::abs(i - ta) / kEndHandOver);
     if (last_chord) weight = std::min(weight, std::abs(tb - i) / kEndHandOver);
@@ -92,7 +95,8 @@ void chordContacts(const WorldModel& m, const WorldState& s, const ChainNode* be
 
 }  // namespace
 
-void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector<WallContact>& out) {
+void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector<WallContact>& out,
+                           double margin_m) {
   const int slices = m.scope.params.slices_per_segment;
   // The chain of slices from the anus to the tip, as the tracking walks it; a slice
   // without a track breaks it. A window of four nodes: the chord between the middle two
@@ -100,7 +104,8 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
   ChainNode node[4];  // node[3] the newest
   int count = 0;      // nodes of the current chain so far
   auto endChain = [&]() {  // its last chord, node[2]-node[3]
-    if (count >= 2) chordContacts(m, s, count >= 3 ? &node[1] : nullptr, node[2], node[3], nullptr, count == 2, true, out);
+    if (count >= 2) chordContacts(m, s, count >= 3 ? &node[1] : nullptr, node[2], node[3], nullptr, count == 2, true, margin_m,
+                                  out);
     count = 0;
   };
   for (int k = s.scope.inside - 1; k >= 0; --k) {
@@ -116,21 +121,40 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
       node[3] = ChainNode{k, t.colon_segment + t.p, sliceCentre(m.scope, s.scope, k, sl)};
       ++count;
       if (count >= 3)  // the chord node[1]-node[2], with node[3] after it
-        chordContacts(m, s, count >= 4 ? &node[0] : nullptr, node[1], node[2], &node[3], count == 3, false, out);
+        chordContacts(m, s, count >= 4 ? &node[0] : nullptr, node[1], node[2], &node[3], count == 3, false, margin_m,
+                      out);
     }
   }
   endChain();
 }
 
-void applyThreadingContacts(const WorldModel& m, WorldState& s) {
+void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt) {
   s.threading.clear();
-  if (!(m.contact.threading_stiffness_N_per_m > 0)) return;
-  findThreadingContacts(m, s, s.threading);
+  s.threading_near.clear();
+  s.threading_stops.clear();
+  const double k = m.contact.threading_stiffness_N_per_m;
+  if (!(k > 0)) return;
+  // The candidates: the control points one step at the scope's speed limit could take
+  // beyond the wall's thickness.
+  findThreadingContacts(m, s, s.threading_near, dt * m.scope.params.max_speed_m_per_s);
+  const double held_m = 0.5 * m.contact.max_point_force_N / k;
+  for (const WallContact& c : s.threading_near) {
+    if (c.depth_m > 0) s.threading.push_back(c);
+    if (c.weight < 1.0) continue;
+    WorldState::ThreadingStop stop;
+    stop.scope_segment = c.scope_segment;
+    stop.lever_W = c.p_W_point - s.scope.p_W[c.scope_segment];
+    stop.point = c.colon_segment;
+    stop.normal_W = c.normal_W;
+    stop.depth_m = c.depth_m;
+    stop.allowed_m = std::max(held_m, c.depth_m);
+    s.threading_stops.push_back(stop);
+  }
   if (s.threading.empty()) return;
   // Eq. 7 with the threading stiffness from the depth beyond the wall's thickness: no
   // second backing.
   ContactParams p = m.contact;
-  p.wall_stiffness_N_per_m = m.contact.threading_stiffness_N_per_m;
+  p.wall_stiffness_N_per_m = k;
   p.wall_backing_stiffness_N_per_m = 0;
   ContactLimitReport limit;
   const double f = applyWallContacts(p, m.colon, s.colon, m.scope, s.scope, s.threading, s.colon.loads,
@@ -138,6 +162,58 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s) {
   s.max_wall_force_N = std::max(s.max_wall_force_N, f);
   limit.worst.kind = ContactLimitReport::Worst::Kind::kThreading;
   s.contact_limit.merge(limit);
+}
+
+void stopThreading(const WorldModel& /*model*/, WorldState& s, double dt) {
+  ColonState& colon = s.colon;
+  ScopeState& scope = s.scope;
+  if (s.threading_stops.empty() || !colon.solver_ok || !scope.solver_ok) return;
+  const int simulated = scope.simulated;
+  double* xc = colon.scratch.data();
+  double* xs = scope.guard_response.data();
+  for (int pass = 0; pass < 2; ++pass)
+    for (WorldState::ThreadingStop& st : s.threading_stops) {
+      const int k = st.scope_segment, i = st.point;
+      if (k >= simulated) continue;
+      const Vec3& n = st.normal_W;
+      // The depth at the end of the step, to first order: from the start's, at the rate the
+      // two solved velocities give.
+      const Vec3 v_y = scope.v_W[k] + scope.w_W[k].cross(st.lever_W);
+      const double rate = (v_y - colon.v.col(i)).dot(n);
+      const double excess_m = st.depth_m + dt * rate - st.allowed_m;
+      if (!(excess_m > 1e-12)) continue;
+      // Each body's velocity change along n per unit impulse, from its step's factors.
+      colon.scratch.setZero();
+      for (int c = 0; c < 3; ++c) xc[3 * i + c] = n(c);
+      colon.system.solveInPlace(xc);
+      const double r_colon = n.dot(Vec3(xc[3 * i], xc[3 * i + 1], xc[3 * i + 2]));
+      const Vec3 ln = st.lever_W.cross(n);
+      std::fill(xs, xs + 6 * simulated, 0.0);
+      for (int c = 0; c < 3; ++c) xs[6 * k + c] = n(c), xs[6 * k + 3 + c] = ln(c);
+      scope.system.solveInPlace(simulated, xs);
+      const double r_scope = n.dot(Vec3(xs[6 * k], xs[6 * k + 1], xs[6 * k + 2])) +
+                             ln.dot(Vec3(xs[6 * k + 3], xs[6 * k + 4], xs[6 * k + 5]));
+      const double response = r_colon + r_scope;
+      if (!(response > 0) || !std::isfinite(response)) continue;
+      const double impulse = excess_m / (dt * response);
+      // The colon pulled along +n, the scope pushed along -n: velocities, and the positions
+      // they were integrated into.
+      for (int j = 0; j < colon.q.cols(); ++j) {
+        const Vec3 dv = impulse * Vec3(xc[3 * j], xc[3 * j + 1], xc[3 * j + 2]);
+        colon.v.col(j) += dv;
+        colon.q.col(j) += dt * dv;
+      }
+      for (int j = 0; j < simulated; ++j) {
+        const Vec3 dv = -impulse * Vec3(xs[6 * j], xs[6 * j + 1], xs[6 * j + 2]);
+        const Vec3 dw = -impulse * Vec3(xs[6 * j + 3], xs[6 * j + 4], xs[6 * j + 5]);
+        scope.v_W[j] += dv;
+        scope.w_W[j] += dw;
+        scope.p_W[j] += dt * dv;
+        scope.R_WS[j] = expSO3(dt * dw) * scope.R_WS[j];
+        orthonormalize(scope.R_WS[j]);
+      }
+      st.impulse_Ns += impulse;
+    }
 }
 
 }  // namespace colosim

@@ -37,14 +37,33 @@ namespace colosim {
 /// WallContact at y on the scope segment of the nearer slice (`point` 0: a slice's
 /// scaling), located at control point i (segment i, p = 0), with its normal from q_i
 /// towards y, its depth [m] and its weight (1, less where handed over at a chain's end).
-/// Control points 1 .. n - 2 only.
-void findThreadingContacts(const WorldModel& model, const WorldState& state, std::vector<WallContact>& out);
+/// Control points 1 .. n - 2 only. With margin_m > 0 also the control points within that
+/// much of the depth where a contact begins (depth > -margin_m: the stop's candidates).
+void findThreadingContacts(const WorldModel& model, const WorldState& state, std::vector<WallContact>& out,
+                           double margin_m = 0.0);
 
 /// When ContactParams::threading_stiffness_N_per_m > 0: finds the threading contacts into
 /// state.threading and appends their loads to state.colon.loads and state.scope.loads
 /// (eq. 7 with the threading stiffness, no backing; the wall's damping, friction and force
-/// limit), counting them into state.max_wall_force_N and state.contact_limit. Otherwise
-/// clears state.threading.
-void applyThreadingContacts(const WorldModel& model, WorldState& state);
+/// limit), counting them into state.max_wall_force_N and state.contact_limit; and sets the
+/// step's threading stops (below) in state.threading_stops. Otherwise clears both.
+void applyThreadingContacts(const WorldModel& model, WorldState& state, double dt_s);
+
+/// The threading stop, after both bodies' steps. A penalty found at the start of a step
+/// cannot hold a control point that the scope closes on faster than its depth allows in
+/// one step: in the abuse scripts on the folded candidate patient (docs/clinical-mechanics.md,
+/// session 28) threading contacts appear from nothing 0.7-2 mm beyond the wall's thickness,
+/// the scope's slice moving at 1-3 m/s, and ask 20-52 N, over the force limit. So every
+/// full-weight control point within a step at the scope's speed limit of a contact is also a
+/// unilateral stop at the velocity level: where the two solved velocities would take it
+/// deeper than half the depth at which the spring alone asks the force limit (0.33 mm at
+/// 20 N and 30,000 N/m; or than it was, if deeper), an impulse P stops it there, shared as
+/// in an inelastic contact: P (J_c A_c^-1 J_c^T + J_s A_s^-1 J_s^T) = the excess / dt, with
+/// each body's step matrix (its factors) and J the point along the contact's normal;
+/// the colon's velocities and positions move by P A_c^-1 J_c^T, the scope's by
+/// -P A_s^-1 J_s^T (the rotations by the exponential). Two passes in order, impulses only
+/// added. Limits: the handle's reaction and the speed limits are the step's, before the
+/// stop.
+void stopThreading(const WorldModel& model, WorldState& state, double dt_s);
 
 }  // namespace colosim

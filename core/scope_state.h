@@ -88,7 +88,7 @@ struct ScopeState {
   BlockTridiagonal<6> system;  ///< 6 unknowns per segment; joints couple neighbours
   Eigen::VectorXd rhs;
   Eigen::VectorXd force;
-  Eigen::VectorXd guard_response;  ///< the chain's velocity change per unit impulse on the lens
+  Eigen::VectorXd guard_response;  ///< the chain's velocity change per unit impulse on the lens (or a threading stop)
   /// The state at the start of the step, to step again from when the grip slips (the
   /// fields a step changes before the grip: saveStart() and restoreStart() copy them).
   struct Start {

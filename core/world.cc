@@ -94,6 +94,8 @@ WorldState makeWorldState(const WorldModel& m) {
   s.wall.reserve(points);
   s.self.reserve(16 * m.colon.n);
   s.threading.reserve(4 * static_cast<size_t>(m.colon.n));
+  s.threading_near.reserve(4 * static_cast<size_t>(m.colon.n));
+  s.threading_stops.reserve(4 * static_cast<size_t>(m.colon.n));
   s.colon_start.q = s.colon.q;
   s.colon_start.v = s.colon.v;
   s.colon_start.tension_internal = s.colon.tension_internal;
@@ -114,7 +116,7 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
   s.scope.loads.clear();
   s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall,
                                          s.colon.loads, s.scope.loads, &s.contact_limit);
-  applyThreadingContacts(m, s);
+  applyThreadingContacts(m, s, dt);
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
   for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
   setLensWall(m, s);
@@ -142,6 +144,8 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
     s.colon.loads.push_back(l);
     stepColon(m.colon, s.colon, dt);
   }
+  // The threading stops, on both bodies' solved steps.
+  stopThreading(m, s, dt);
 }
 
 void threadScopeAlongColon(const WorldModel& m, WorldState& s, double insertion_m, double rotation_rad) {

@@ -36,6 +36,19 @@ struct WorldState {
   std::vector<SelfContact> self;   ///< colon self-contacts found at the start of the last step
   /// Threading contacts found at the start of the last step (core/colon_threading.h).
   std::vector<WallContact> threading;
+  /// The threading stops of the last step (core/colon_threading.h: stopThreading), and
+  /// scratch: the candidates they were chosen from.
+  struct ThreadingStop {
+    int scope_segment = 0;
+    Vec3 lever_W = Vec3::Zero();   ///< axis point minus the segment's centre at the start [m]
+    int point = 0;                 ///< colon control point
+    Vec3 normal_W = Vec3::UnitX(); ///< from the control point towards the axis point
+    double depth_m = 0;            ///< at the start of the step (negative: short of a contact) [m]
+    double allowed_m = 0;          ///< the deepest it may go within the step [m]
+    double impulse_Ns = 0;         ///< what stopped it [N s]
+  };
+  std::vector<ThreadingStop> threading_stops;
+  std::vector<WallContact> threading_near;
   /// Per interaction point: its spline location in the last step (core/contact_tracking.h),
   /// segment-major (k * P + i, P = interaction_points_S.size()), then the tip face's points
   /// (K * P + f).

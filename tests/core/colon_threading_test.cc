@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include "core/colon_step.h"
 #include "core/contact_tracking.h"
+#include "core/scope_step.h"
 #include "tests/core/every_segment.h"
 #include "tests/core/small_colons.h"
 
@@ -177,7 +179,7 @@ TEST(ColonThreading, LoadsAreTheThreadingSpringOnBothBodiesOpposite) {
     t.s.colon.q.col(10).x() += t.threshold_m(10) + depth_m;
     t.s.colon.loads.clear();
     t.s.scope.loads.clear();
-    applyThreadingContacts(t.m, t.s);
+    applyThreadingContacts(t.m, t.s, 1e-3);
     if (k == 0) {
       EXPECT_TRUE(t.s.threading.empty());
       EXPECT_TRUE(t.s.colon.loads.empty());
@@ -204,13 +206,67 @@ TEST(ColonThreading, ALimitedContactIsReportedAsThreading) {
   const double depth_m = 0.001;  // 30 N at 30,000 N/m: over the 20 N point limit
   t.s.colon.q.col(10).x() += t.threshold_m(10) + depth_m;
   t.s.contact_limit = ContactLimitReport();
-  applyThreadingContacts(t.m, t.s);
+  applyThreadingContacts(t.m, t.s, 1e-3);
   EXPECT_EQ(t.s.contact_limit.limited, 1);
   EXPECT_EQ(t.s.contact_limit.worst.kind, ContactLimitReport::Worst::Kind::kThreading);
   EXPECT_EQ(t.s.contact_limit.worst.colon_segment, 10);
   EXPECT_NEAR(t.s.contact_limit.worst.depth_m, depth_m, 1e-9);
   EXPECT_NEAR(t.s.contact_limit.worst.asked_N, 30000 * depth_m, 1e-6);
   EXPECT_NEAR(t.s.max_wall_force_N, t.m.contact.max_point_force_N, 1e-9);
+}
+
+// The threading stop (stopThreading): a control point 1 mm short of a contact, closing on
+// it at 2 m/s (the colon swept sideways past the scope), would go about 1 mm beyond the wall's thickness in one 1 ms step: the penalty is
+// found only at the start of the step. The stop holds it within half the depth where the
+// spring alone asks the force limit (0.33 mm), and the scope takes the other half of the impulse
+// (its axis point there moves towards the control point). A control point that is not
+// closing that fast is left bit for bit.
+TEST(ColonThreading, TheStopHoldsAControlPointClosingFasterThanOneStepAllows) {
+  const double dt = 1e-3;
+  const int i = 10;
+  auto run = [&](double speed_m_per_s, bool stop, double* depth_after_m, Vec3* axis_after_W) {
+    Threaded t(30000);
+    t.s.colon.q.row(0).array() += t.threshold_m(i) - 0.001;  // the colon beside the scope
+    t.s.colon.v.row(0).setConstant(speed_m_per_s);           // and swept sideways, away from its axis
+    t.s.colon.loads.clear();
+    t.s.scope.loads.clear();
+    applyThreadingContacts(t.m, t.s, dt);
+    EXPECT_TRUE(t.s.threading.empty());  // no contact at the start
+    EXPECT_FALSE(t.s.threading_stops.empty());
+    stepColon(t.m.colon, t.s.colon, dt);
+    HandleInput in = t.s.scope.input;
+    stepScope(t.m.scope, t.s.scope, in, dt);
+    if (stop) stopThreading(t.m, t.s, dt);
+    std::vector<WallContact> found;
+    findThreadingContacts(t.m, t.s, found);
+    *depth_after_m = 0;
+    for (const WallContact& c : found)
+      if (c.colon_segment == i) *depth_after_m = c.depth_m;
+    size_t at = 0;
+    while (at + 1 < t.s.threading_stops.size() && t.s.threading_stops[at].point != i) ++at;
+    const WorldState::ThreadingStop& st = t.s.threading_stops[at];
+    EXPECT_EQ(st.point, i);
+    *axis_after_W = t.s.scope.p_W[st.scope_segment] + t.s.scope.R_WS[st.scope_segment] *
+                                                         (t.s.scope.start.R_WS[st.scope_segment].transpose() * st.lever_W);
+    return t.s;
+  };
+  double free_m = 0, held_m = 0, slow_free_m = 0, slow_held_m = 0;
+  Vec3 axis_free, axis_held, a, b;
+  run(2.0, false, &free_m, &axis_free);
+  const WorldState s = run(2.0, true, &held_m, &axis_held);
+  EXPECT_GT(free_m, 0.0008);  // the penalty alone: about 1 mm beyond (0.86 mm: the lifters)
+  const Threaded model(30000);
+  const double allowed_m = 0.5 * model.m.contact.max_point_force_N / 30000.0;
+  EXPECT_EQ(s.threading_stops[0].allowed_m, allowed_m);
+  EXPECT_LT(held_m, allowed_m + 2e-5);
+  EXPECT_LT(held_m, 0.5 * free_m);  // (its neighbours' stops hold it too: 0.2 mm)
+  EXPECT_GT(s.threading_stops[0].impulse_Ns, 0.0);
+  EXPECT_GT(axis_held.x() - axis_free.x(), 1e-6);  // the scope pulled towards the point (+x)
+  // Slow: 0.5 m/s ends about 0.5 mm short of the contact, and nothing is stopped.
+  const WorldState s_free = run(0.5, false, &slow_free_m, &a);
+  const WorldState s_held = run(0.5, true, &slow_held_m, &b);
+  EXPECT_EQ(hashWorldState(s_free), hashWorldState(s_held));
+  for (const WorldState::ThreadingStop& st : s_held.threading_stops) EXPECT_EQ(st.impulse_Ns, 0.0);
 }
 
 }  // namespace
