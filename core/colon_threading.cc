@@ -140,14 +140,14 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt) {
   const double held_m = 0.5 * m.contact.max_point_force_N / k;
   for (const WallContact& c : s.threading_near) {
     if (c.depth_m > 0) s.threading.push_back(c);
-    if (c.weight < 1.0) continue;
+    if (!(c.weight > 0)) continue;
     WorldState::ThreadingStop stop;
     stop.scope_segment = c.scope_segment;
     stop.lever_W = c.p_W_point - s.scope.p_W[c.scope_segment];
     stop.point = c.colon_segment;
     stop.normal_W = c.normal_W;
     stop.depth_m = c.depth_m;
-    stop.allowed_m = std::max(held_m, c.depth_m);
+    stop.allowed_m = std::max(held_m / c.weight, c.depth_m);
     s.threading_stops.push_back(stop);
   }
   if (s.threading.empty()) return;
@@ -171,7 +171,9 @@ void stopThreading(const WorldModel& /*model*/, WorldState& s, double dt) {
   const int simulated = scope.simulated;
   double* xc = colon.scratch.data();
   double* xs = scope.guard_response.data();
-  for (int pass = 0; pass < 2; ++pass)
+  bool engaged = true;  // a second pass only after a first that engaged
+  for (int pass = 0; pass < 2 && engaged; ++pass) {
+    engaged = false;
     for (WorldState::ThreadingStop& st : s.threading_stops) {
       const int k = st.scope_segment, i = st.point;
       if (k >= simulated) continue;
@@ -213,7 +215,9 @@ void stopThreading(const WorldModel& /*model*/, WorldState& s, double dt) {
         orthonormalize(scope.R_WS[j]);
       }
       st.impulse_Ns += impulse;
+      engaged = true;
     }
+  }
 }
 
 }  // namespace colosim

@@ -46,24 +46,30 @@ void findThreadingContacts(const WorldModel& model, const WorldState& state, std
 /// state.threading and appends their loads to state.colon.loads and state.scope.loads
 /// (eq. 7 with the threading stiffness, no backing; the wall's damping, friction and force
 /// limit), counting them into state.max_wall_force_N and state.contact_limit; and sets the
-/// step's threading stops (below) in state.threading_stops. Otherwise clears both.
+/// step's threading stops (stopThreading, below) in state.threading_stops. Otherwise clears
+/// both.
 void applyThreadingContacts(const WorldModel& model, WorldState& state, double dt_s);
 
 /// The threading stop, after both bodies' steps. A penalty found at the start of a step
 /// cannot hold a control point that the scope closes on faster than its depth allows in
 /// one step: in the abuse scripts on the folded candidate patient (docs/clinical-mechanics.md,
-/// session 28) threading contacts appear from nothing 0.7-2 mm beyond the wall's thickness,
-/// the scope's slice moving at 1-3 m/s, and ask 20-52 N, over the force limit. So every
-/// full-weight control point within a step at the scope's speed limit of a contact is also a
-/// unilateral stop at the velocity level: where the two solved velocities would take it
-/// deeper than half the depth at which the spring alone asks the force limit (0.33 mm at
-/// 20 N and 30,000 N/m; or than it was, if deeper), an impulse P stops it there, shared as
-/// in an inelastic contact: P (J_c A_c^-1 J_c^T + J_s A_s^-1 J_s^T) = the excess / dt, with
-/// each body's step matrix (its factors) and J the point along the contact's normal;
-/// the colon's velocities and positions move by P A_c^-1 J_c^T, the scope's by
-/// -P A_s^-1 J_s^T (the rotations by the exponential). Two passes in order, impulses only
-/// added. Limits: the handle's reaction and the speed limits are the step's, before the
-/// stop.
+/// session 28) threading contacts appeared from nothing 0.7-2 mm beyond the wall's thickness,
+/// the scope's slice moving at 1-3 m/s, and asked 20-52 N, over the force limit (which then
+/// scales the force down: a solver limit). So every control point within a step at the
+/// scope's speed limit of a contact (findThreadingContacts with that margin), of weight w > 0,
+/// is also a unilateral stop at the velocity level, as the lens guard is for the lens
+/// (core/scope_step.cc) but on both bodies: where the two solved velocities take it deeper
+/// within the step than the depth at which its spring asks half the force limit (0.33 mm / w
+/// at 20 N and 30,000 N/m; or than it was, if deeper), an impulse P stops it there, shared as
+/// in an inelastic contact:
+///   P (J_c A_c^-1 J_c^T + J_s A_s^-1 J_s^T) = (depth + dt (v_s - v_c) . n - allowed) / dt
+/// with each body's step matrix A (its factors, kept from the step) and J the point along
+/// the contact's normal n (the control point; the axis point on its scope segment). The
+/// colon's velocities and positions move by P A_c^-1 J_c^T, the scope's by -P A_s^-1 J_s^T
+/// (the rotations by the exponential). Two passes in order (the second only after a first
+/// that engaged), impulses only added: deterministic. Limits: the handle's reaction, the
+/// speed limits and the tension laws' history are the step's, before the stop; the axis
+/// point is the one found at the start of the step, carried by its segment's velocity.
 void stopThreading(const WorldModel& model, WorldState& state, double dt_s);
 
 }  // namespace colosim
