@@ -137,7 +137,7 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt) {
   // The candidates: the control points one step at the scope's speed limit could take
   // beyond the wall's thickness.
   findThreadingContacts(m, s, s.threading_near, dt * m.scope.params.max_speed_m_per_s);
-  const double held_m = 0.5 * m.contact.max_point_force_N / k;
+  const double held_m = m.contact.threading_stop_force_N / k;
   for (const WallContact& c : s.threading_near) {
     if (c.depth_m > 0) s.threading.push_back(c);
     if (!(c.weight > 0)) continue;

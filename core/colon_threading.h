@@ -59,8 +59,8 @@ void applyThreadingContacts(const WorldModel& model, WorldState& state, double d
 /// scope's speed limit of a contact (findThreadingContacts with that margin), of weight w > 0,
 /// is also a unilateral stop at the velocity level, as the lens guard is for the lens
 /// (core/scope_step.cc) but on both bodies: where the two solved velocities take it deeper
-/// within the step than the depth at which its spring asks half the force limit (0.33 mm / w
-/// at 20 N and 30,000 N/m; or than it was, if deeper), an impulse P stops it there, shared as
+/// within the step than the depth at which its spring asks ContactParams::threading_stop_force_N
+/// (0.33 mm / w at 10 N and 30,000 N/m; or than it was, if deeper), an impulse P stops it there, shared as
 /// in an inelastic contact:
 ///   P (J_c A_c^-1 J_c^T + J_s A_s^-1 J_s^T) = (depth + dt (v_s - v_c) . n - allowed) / dt
 /// with each body's step matrix A (its factors, kept from the step) and J the point along

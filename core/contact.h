@@ -36,6 +36,11 @@ struct ContactParams {
   /// there, per control point [N/m]. 0: none (the paper's model: the wall is sampled at the
   /// scope's interaction points only).
   double threading_stiffness_N_per_m = 0;
+  /// The threading stop (core/colon_threading.h, stopThreading) holds a control point
+  /// where its threading spring asks this force [N]: 10 N is 0.33 mm beyond the wall's
+  /// thickness at 30,000 N/m, well inside the point force limit (half of it when it was
+  /// 20 N, session 28, and kept when the limit was raised, session 29).
+  double threading_stop_force_N = 10.0;
   double friction_coefficient = 0.1;      ///< Coulomb mu between scope and mucosa [-] (0: the paper's model)
   double friction_velocity_m_per_s = 0.002; ///< regularisation: full friction above ~this sliding speed [m/s]
   double self_stiffness_N_per_m = 300;    ///< colon self-contact stiffness per sphere pair [N/m]
@@ -44,12 +49,14 @@ struct ContactParams {
   /// (pi: a tube folded back on itself with a bend radius equal to its own radius).
   double self_neighbour_radii = 3.14159265358979323846;
   double query_margin_m = 0.01;           ///< how far outside the lumen a point is still found by the broadphase [m]
-  /// Solver limit (docs/hardening.md): the largest force one interaction point puts on
-  /// the wall [N]. 20 N is 2 cm into the 1000 N/m wall, most of a colon radius outside the
-  /// lumen, where the penalty contact no longer stands for the wall (and 4 times the
-  /// scores' 5 N excessive-force threshold per 1.5 cm of scope). A larger force is scaled
-  /// down to it, with its stiffness and damping, and counted.
-  double max_point_force_N = 20.0;
+  /// Solver limit (docs/hardening.md): the largest force one interaction point (or one
+  /// threading contact) puts on the wall [N]. 60 N is what the contact laws give 5 mm
+  /// deep, the deepest point the lumen tests accept: the wall and its backing 65 N
+  /// (1000 N/m x 5 mm + 30,000 N/m x 2 mm), a threading contact 60 N (30,000 N/m x 2 mm).
+  /// A point asking more is beyond what the law stands for. A larger force is scaled down
+  /// to it, with its stiffness and damping, and counted. (20 N until session 29: where the
+  /// body holds the colon firmly, the handle's push wedged points past it into the wall.)
+  double max_point_force_N = 60.0;
   /// The lens guard (core/scope_step.h): the lens is stopped this far inside the wall of
   /// the tip slice's track, a margin for what one step's linearisation and the wall's own
   /// motion within the step leave over [m]. Negative: no guard (the penalty wall alone, as

@@ -203,7 +203,7 @@ TEST(ColonThreading, LoadsAreTheThreadingSpringOnBothBodiesOpposite) {
 // step's report names it: a threading contact, at its control point, its depth.
 TEST(ColonThreading, ALimitedContactIsReportedAsThreading) {
   Threaded t(30000);
-  const double depth_m = 0.001;  // 30 N at 30,000 N/m: over the 20 N point limit
+  const double depth_m = 0.003;  // 90 N at 30,000 N/m: over the 60 N point limit
   t.s.colon.q.col(10).x() += t.threshold_m(10) + depth_m;
   t.s.contact_limit = ContactLimitReport();
   applyThreadingContacts(t.m, t.s, 1e-3);
@@ -262,7 +262,7 @@ TEST(ColonThreading, TheStopHoldsAControlPointClosingFasterThanOneStepAllows) {
   const WorldState s = run(2.0, true, &held_m, &axis_held);
   EXPECT_GT(free_m, 0.0008);  // the penalty alone: about 1 mm beyond (0.86 mm: the lifters)
   const Threaded model(30000);
-  const double allowed_m = 0.5 * model.m.contact.max_point_force_N / 30000.0;
+  const double allowed_m = model.m.contact.threading_stop_force_N / 30000.0;
   EXPECT_EQ(stopAt(s, i).allowed_m, allowed_m);  // a full-weight contact
   EXPECT_GT(stopAt(s, i).impulse_Ns, 0.0);
   EXPECT_LT(held_m, allowed_m + 2e-5);
