@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/scope_step.h"
 
@@ -49,15 +50,24 @@ void holdWithinGrip(const ScopeModel& m, ScopeState& s, const HandleInput& targe
   // affine in the move).
   const double L0 = s.start.input.insertion_m, phi0 = s.start.input.rotation_rad;
   const int inside_hand = s.inside;
+  const double want_L = target.insertion_m - L0, want_phi = target.rotation_rad - phi0;
+  // The move tried whose reaction lies least beyond the grip (in fractions of its limits),
+  // starting with the hand's own move, which asked what the grip could not hold.
+  auto excess = [&](const HandleReaction& r) {
+    return std::max(std::abs(r.force_N) / p.max_handle_force_N, std::abs(r.torque_Nm) / p.max_handle_torque_Nm);
+  };
+  double least_dL = want_L, least_dphi = want_phi, least = excess(s.handle);
+  if (!std::isfinite(least)) least = std::numeric_limits<double>::infinity();
   auto trial = [&](double dL, double dphi) {
     restoreStart(s);
     HandleInput in = target;
     in.insertion_m = std::clamp(L0 + dL, 0.0, max_insertion);
     in.rotation_rad = phi0 + dphi;
     advanceScope(m, s, in, dt, inside_hand);
+    const double e = excess(s.handle);
+    if (e < least) least = e, least_dL = dL, least_dphi = dphi;
     return s.handle;
   };
-  const double want_L = target.insertion_m - L0, want_phi = target.rotation_rad - phi0;
   const double probe_m = 1e-5, probe_rad = 1e-4;  // small enough to stay affine
   const HandleReaction held = trial(0, 0);
   const double F0 = held.force_N, T0 = held.torque_Nm;
@@ -85,8 +95,13 @@ void holdWithinGrip(const ScopeModel& m, ScopeState& s, const HandleInput& targe
         if (F < best_F) best_F = F, best_dL = dL + sign * move_m;
         if (best_F <= p.max_handle_force_N) break;
       }
-    trial(best_dL, dphi);
+    r = trial(best_dL, dphi);
   }
+  // Where every move the search made is still beyond the grip, the one that asked the least
+  // (when a step's segments meet the speed limit, a move is not answered affinely and the
+  // search can end further out than where it began: 2.5 m/s turned from push to pull asked
+  // 143 N of the hand and ended at -849 N).
+  if (!withinGrip(p, r) && excess(r) > least) trial(least_dL, least_dphi);
 }
 
 void recordGripSlip(ScopeState& s, const HandleInput& cmd) {

@@ -24,6 +24,9 @@ HandleInput gripTarget(const ScopeModel& model, const ScopeState& state, const H
 /// still beyond. Up to 8 steps in all, only while the grip slips; a force the moves leave
 /// beyond the limit (contacts at their own limits do not answer a small move) then slides
 /// the tube by the move of +-0.1 to +-1.6 mm that brings it lowest (up to 11 more steps).
+/// If it is still beyond the grip, the move tried (the hand's own included) whose reaction
+/// lay least beyond the limits is taken (one more step): the grip never ends further out
+/// than the hand's move asked.
 void holdWithinGrip(const ScopeModel& model, ScopeState& state, const HandleInput& target, double dt_s);
 
 /// Records the grip's slip after the step: the command `cmd` minus the outside part's

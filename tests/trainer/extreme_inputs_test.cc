@@ -326,6 +326,32 @@ TEST(ExtremeInputs, LimiterEngagesIsRecordedAndReplays) {
   expectReplaysBitIdentically(plan, r, limited_steps);
 }
 
+// Everything at once at 2.5 m/s (its script 0.4 times as long): where the command turns
+// from push to pull (0.92 s) the scope's segments ask 5-7 m/s of the 5 m/s speed limit, a
+// move is no longer answered affinely, and the grip's search cannot hold the reaction
+// within the grip. It must at least not end beyond what the hand's own move asked: before
+// the search kept the least of its moves, it took a step asking 143.5 N to -849.5 N (and
+// the run's peak pull to 1403 N; since, 544 N: still beyond the grip, docs/hardening.md).
+TEST(ExtremeInputs, TheGripNeverEndsFurtherBeyondItsLimitThanTheHandsMoveAsked) {
+  Scenario sc = everythingAtOnce(0.4, 1.0);
+  WorldSimulation sim(sc);
+  const ScopeParams grip;
+  auto excess = [&](double force_N, double torque_Nm) {
+    return std::max(std::abs(force_N) / grip.max_handle_force_N, std::abs(torque_Nm) / grip.max_handle_torque_Nm);
+  };
+  int slipped = 0;
+  for (long k = 0; k < std::lround(0.95 / sim.dt_s()); ++k) {
+    sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
+    const ScopeState& s = sim.state().scope;
+    if (!s.grip_limited) continue;
+    ++slipped;
+    EXPECT_LE(excess(s.handle.force_N, s.handle.torque_Nm),
+              excess(s.asked_handle_force_N, s.asked_handle_torque_Nm) + 1e-9)
+        << "step " << k << ": asked " << s.asked_handle_force_N << " N, ended at " << s.handle.force_N << " N";
+  }
+  EXPECT_GT(slipped, 0) << "the grip never slipped: the test tests nothing";
+}
+
 // Pushed at 1 m/s against sticky walls the handle force reaches the grip's limit: the grip
 // slips (the actual insertion differs from the command), the force stays within 1 % of the
 // limit at every step, the session's solver_limited events name the handle force asked
