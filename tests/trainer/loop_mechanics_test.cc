@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "trainer/assets.h"
+#include "trainer/clinical_manoeuvres.h"
 #include "trainer/scenario.h"
 #include "trainer/start_state.h"
 #include "trainer/world_simulation.h"
@@ -20,39 +21,15 @@
 namespace colosim {
 namespace {
 
-struct Outcome {
-  double writhe_start = 0;  ///< at the end of the set-up (2 s) [turns]
-  double writhe_end = 0;    ///< 10 s after the withdrawal began [turns]
-};
-
-Outcome untwist(double rotation_scale) {
-  Scenario sc = findScenario("sigmoid_untwist");
-  for (Keyframe& k : sc.script) {
-    k.input.rotation_rad *= rotation_scale;
-    k.input.knob_updown_rad = 2.5;  // the tip hooked from the start (the script's steering replaced)
-    k.input.knob_leftright_rad = 0.0;
-  }
-  WorldSimulation sim(sc);
-  Outcome o;
-  const long steps = std::lround(12.0 / sim.dt_s());
-  for (long k = 0; k < steps; ++k) {
-    sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
-    if (k + 1 == std::lround(2.0 / sim.dt_s())) o.writhe_start = sim.telemetry().loop_writhe;
-  }
-  o.writhe_end = sim.telemetry().loop_writhe;
-  return o;
-}
-
-// The loop of the start is still there: the same handedness, at least half a turn.
-bool stays(const Outcome& o) { return o.writhe_end * o.writhe_start > 0 && std::abs(o.writhe_end) > 0.5; }
-
 TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
-  const Outcome none = untwist(0.0), cw = untwist(1.0), ccw = untwist(-1.0);
+  const Parameters patient = loadParameters(findScenario("sigmoid_untwist").params_path);
+  const HookedUntwist none = hookedUntwist(patient, 0.0), cw = hookedUntwist(patient, 1.0),
+                      ccw = hookedUntwist(patient, -1.0);
   std::printf("writhe at 2 s %.3f; at 12 s: no rotation %.3f, clockwise %.3f, anticlockwise %.3f\n",
               none.writhe_start, none.writhe_end, cw.writhe_end, ccw.writhe_end);
   ASSERT_GT(std::abs(none.writhe_start), 0.8) << "an alpha loop to begin with";
-  EXPECT_TRUE(stays(none)) << "15 cm of withdrawal alone leaves it";
-  EXPECT_NE(stays(cw), stays(ccw)) << "one direction of 1.25 turns takes it out, the other does not";
+  EXPECT_TRUE(none.stays()) << "15 cm of withdrawal alone leaves it";
+  EXPECT_NE(cw.stays(), ccw.stays()) << "one direction of 1.25 turns takes it out, the other does not";
 }
 
 // Pleating (issue 21): the colon gathered onto the scope by a hooked withdrawal.
@@ -64,60 +41,16 @@ TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
 // below the issue's 80 % of its rest length (measured 0.763; 0.797 with the hook set at
 // 28 s); on the paper's smooth tube (fold depth 0) the tip slides back along it (10 cm,
 // 0.957). Not yet the shipped patient: docs/clinical-mechanics.md, sessions 22-23.
-struct Withdrawal {
-  double sigmoid_before = 0;  ///< present/rest length of the sigmoid when the hook is set [-]
-  double sigmoid_least = 0;   ///< its least during the withdrawal and hold [-]
-  double tip_back_m = 0;      ///< how far the tip slid back along the colon (rest arclength) [m]
-  int limited_steps = 0;      ///< steps in which a solver or contact force limit engaged
-};
-
-Withdrawal hookedWithdrawal(double fold_depth, double compression_fraction) {
-  Scenario sc = findScenario("free_insertion");
-  const double t0 = 30.0;
-  std::vector<Keyframe> script;
-  for (const Keyframe& k : sc.script)
-    if (k.t_s <= t0) script.push_back(k);
-  Keyframe k = script.back();
-  k.t_s = t0 + 1.0;
-  k.input.knob_updown_rad = 2.5;
-  script.push_back(k);
-  k.t_s = t0 + 9.0;
-  k.input.insertion_m -= 0.15;
-  script.push_back(k);
-  k.t_s = t0 + 12.0;
-  script.push_back(k);
-  sc.script = script;
-  sc.abdominal_pressure.clear();
-  sc.duration_s = t0 + 12.0;
-  Parameters params = loadParameters(sc.params_path);
+HookedWithdrawal hookedWithdrawalOn(double fold_depth, double compression_fraction) {
+  Parameters params = loadParameters(findScenario("free_insertion").params_path);
   params.colon.haustral_fold_depth = fold_depth;
   params.colon.compression_stiffness_fraction = compression_fraction;
-  WorldSimulation sim(sc, params);
-  int sigmoid = -1;
-  for (size_t r = 0; r < sim.model().colon.region_names.size(); ++r)
-    if (sim.model().colon.region_names[r] == "sigmoid") sigmoid = static_cast<int>(r);
-  EXPECT_GE(sigmoid, 0);
-  Withdrawal w;
-  double tip_at_hook = 0;
-  w.sigmoid_least = 1e9;
-  for (long i = 0; i < sc.steps(); ++i) {
-    sim.step(scriptedInput(sc.script, static_cast<double>(i) * sim.dt_s()));
-    if (i + 1 < std::lround(t0 / sim.dt_s())) continue;
-    const Telemetry t = sim.telemetry();
-    if (i + 1 == std::lround(t0 / sim.dt_s())) {
-      w.sigmoid_before = t.region_length_ratio[sigmoid];
-      tip_at_hook = t.tip_arclength_m;
-    }
-    w.sigmoid_least = std::min(w.sigmoid_least, t.region_length_ratio[sigmoid]);
-    if (t.solver_limited > 0) ++w.limited_steps;
-  }
-  w.tip_back_m = tip_at_hook - sim.telemetry().tip_arclength_m;
-  return w;
+  return hookedWithdrawal(params);
 }
 
 TEST(Pleating, AHookedWithdrawalGathersTheSigmoidOntoTheScope) {
-  const Withdrawal folds = hookedWithdrawal(0.25, 0.05), smooth = hookedWithdrawal(0.0, 0.05);
-  std::printf("sigmoid present/rest: folds %.3f -> least %.3f, tip back %.3f m, %d limited steps; smooth tube %.3f -> "
+  const HookedWithdrawal folds = hookedWithdrawalOn(0.25, 0.05), smooth = hookedWithdrawalOn(0.0, 0.05);
+  std::printf("sigmoid present/rest: folds %.3f -> least %.3f, tip back %.3f m, %ld limited steps; smooth tube %.3f -> "
               "%.3f, tip back %.3f m\n",
               folds.sigmoid_before, folds.sigmoid_least, folds.tip_back_m, folds.limited_steps, smooth.sigmoid_before,
               smooth.sigmoid_least, smooth.tip_back_m);

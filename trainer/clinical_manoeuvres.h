@@ -1,0 +1,36 @@
+// Two manoeuvres of issue 21's mechanics, run on any patient (parameter set): the hooked
+// untwist, which asks whether the loop needs torque, and the hooked withdrawal, which asks
+// whether the colon pleats onto the scope. The tests (tests/trainer/loop_mechanics_test.cc)
+// hold them on the shipped patient; build/tools/trainer_patient_map runs them on candidate
+// patients (docs/clinical-mechanics.md, session 29).
+#pragma once
+
+#include "trainer/assets.h"
+
+namespace colosim {
+
+/// `sigmoid_untwist`'s loop with the tip hooked (the up knob at 2.5 rad from the start, the
+/// script's steering replaced) and its 15 cm withdrawal over 2-10 s, the script's rotation
+/// scaled by rotation_scale (1: the shipped clockwise 1.25 turns; 0: none; -1: the same
+/// anticlockwise); 12 s.
+struct HookedUntwist {
+  double writhe_start = 0;    ///< the loop's writhe at the end of the set-up (2 s) [turns]
+  double writhe_end = 0;      ///< 10 s after the withdrawal began (12 s) [turns]
+  double peak_torque_Nm = 0;  ///< largest |handle torque| [N m]
+  long limited_steps = 0;     ///< steps in which a solver or contact limit engaged
+  /// The loop of the start is still there: the same handedness, at least half a turn.
+  bool stays() const;
+};
+HookedUntwist hookedUntwist(const Parameters& params, double rotation_scale);
+
+/// `free_insertion`'s script to 30 s (the tip near the far end of the sigmoid), then the up
+/// knob to 2.5 rad over 1 s, withdraw_m withdrawn over withdraw_s, held 3 s.
+struct HookedWithdrawal {
+  double sigmoid_before = 0;  ///< present/rest length of the sigmoid when the hook is set [-]
+  double sigmoid_least = 0;   ///< its least during the withdrawal and hold [-]
+  double tip_back_m = 0;      ///< how far the tip slid back along the colon (rest arclength) [m]
+  long limited_steps = 0;     ///< steps in which a solver or contact limit engaged (from 30 s)
+};
+HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m = 0.15, double withdraw_s = 8.0);
+
+}  // namespace colosim
