@@ -9,8 +9,12 @@
 //   - the hooked withdrawal (withdraw_m over withdraw_s; default 0.15 m over 8 s, the
 //     Pleating test's): the sigmoid's present/rest length when the hook is set and its least,
 //     how far the tip slid back;
-//   - the steps in which a solver or contact limit engaged, in all four runs.
-// About 25 s of one core per file.
+//   - the steps in which a solver or contact limit engaged, in all four runs;
+//   - with --abuse, `extreme_all` and the 8 variants of its script that sessions 27-29
+//     measured (times x 0.8-1.2, knobs x 0.6-1; the extreme tests' everythingAtOnce): per run
+//     the limited steps, the steps out of the lumen, the deepest point and the largest track
+//     jump, and the sums (docs/hardening.md, session 29).
+// About 20 s of one core per file; --abuse adds about 3 minutes.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -19,15 +23,20 @@
 
 #include "trainer/assets.h"
 #include "trainer/clinical_manoeuvres.h"
+#include "trainer/replay.h"
+#include "trainer/scenario.h"
+#include "trainer/world_simulation.h"
 
 int main(int argc, char** argv) {
   using namespace colosim;
   std::vector<std::string> files;
   double withdraw_m = 0.15, withdraw_s = 8.0;
+  bool abuse = false;
   CLI::App app{"issue 21's loop pattern and pleating on candidate patients"};
   app.add_option("params", files, "parameter files")->required()->check(CLI::ExistingFile);
   app.add_option("--withdraw-m", withdraw_m, "hooked withdrawal length [m]")->check(CLI::Range(0.0, 0.5));
   app.add_option("--withdraw-s", withdraw_s, "hooked withdrawal duration [s]")->check(CLI::Range(0.5, 60.0));
+  app.add_flag("--abuse", abuse, "also run extreme_all and 8 variants of its script");
   CLI11_PARSE(app, argc, argv);
   std::printf("hooked untwist: writhe at 12 s [turns], S = the loop stays, peak handle torque; hooked withdrawal of "
               "%.2f m over %.1f s: sigmoid present/rest before -> least, tip back [m]\n",
@@ -44,6 +53,30 @@ int main(int argc, char** argv) {
                 cw.peak_torque_Nm, ccw.writhe_end, mark(ccw), ccw.peak_torque_Nm, pattern ? "yes" : "no",
                 w.sigmoid_before, w.sigmoid_least, w.tip_back_m,
                 none.limited_steps + cw.limited_steps + ccw.limited_steps + w.limited_steps);
+    if (!abuse) continue;
+    // (time scale, knob scale) of extreme_all's script: the shipped one first.
+    const double variants[][2] = {{1.0, 1.0}, {0.8, 0.6}, {0.9, 0.8}, {0.9, 1.0}, {0.95, 0.9},
+                                  {1.0, 0.8}, {1.05, 1.0}, {1.1, 0.8}, {1.2, 1.0}};
+    long limited = 0, exits = 0;
+    for (const auto& v : variants) {
+      Scenario sc = findScenario(assetPath("scenarios/extreme/extreme_all.json"));
+      sc.duration_s *= v[0];
+      for (Keyframe& k : sc.script) {
+        k.t_s *= v[0];
+        k.input.knob_updown_rad *= v[1];
+        k.input.knob_leftright_rad *= v[1];
+      }
+      WorldSimulation sim(sc, p);
+      const RunResult r = runScenario(sc, sim, nullptr);
+      const long l = r.scores["solver_limited_steps"].get<long>(), e = r.scores["lumen_exit_steps"].get<long>();
+      limited += l;
+      exits += e;
+      std::printf("  extreme_all, time x %.2f, knobs x %.1f: limited steps %ld, exit steps %ld, deepest %.2f mm, "
+                  "largest track jump %.3f m, peak handle force %.1f N\n",
+                  v[0], v[1], l, e, 1e3 * r.scores["max_wall_penetration_m"].get<double>(),
+                  r.scores["max_track_jump_m"].get<double>(), r.scores["peak_handle_force_N"].get<double>());
+    }
+    std::printf("  extreme_all and its 8 variants: limited steps %ld, exit steps %ld\n", limited, exits);
   }
   return 0;
 }
