@@ -156,6 +156,7 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt) {
   ContactParams p = m.contact;
   p.wall_stiffness_N_per_m = k;
   p.wall_backing_stiffness_N_per_m = 0;
+  p.wall_reference_points_per_slice = 0;  // one contact per control point, whatever the points round a slice
   ContactLimitReport limit;
   const double f = applyWallContacts(p, m.colon, s.colon, m.scope, s.scope, s.threading, s.colon.loads,
                                      s.scope.loads, &limit);

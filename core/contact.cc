@@ -21,9 +21,14 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
   const Mat3 I3 = Mat3::Identity();
   // The per-point values are given for a slice of wall_reference_slice_m; this scope's
   // slices carry them in proportion to their length (ContactParams).
-  const double slice_scale = P.wall_reference_slice_m > 0 ? scope.params.segment_length_m /
-                                                                 scope.params.slices_per_segment / P.wall_reference_slice_m
-                                                           : 1.0;
+  const double length_scale = P.wall_reference_slice_m > 0 ? scope.params.segment_length_m /
+                                                                  scope.params.slices_per_segment / P.wall_reference_slice_m
+                                                            : 1.0;
+  // ... and for wall_reference_points_per_slice points round it (1 exactly at that count).
+  const double points_scale = P.wall_reference_points_per_slice > 0 && scope.params.points_per_slice > 0
+                                  ? static_cast<double>(P.wall_reference_points_per_slice) / scope.params.points_per_slice
+                                  : 1.0;
+  const double slice_scale = length_scale * points_scale;
   const size_t slice_points = scope.interaction_points_S.size();
   for (WallContact& c : contacts) {
     const double w_slice = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;

@@ -24,6 +24,12 @@ struct ContactParams {
   /// of scope does not change with the resolution. The tip face's points are not on a
   /// slice and keep the given values. 0: per point whatever the slice (the paper's eq. 7).
   double wall_reference_slice_m = 0.015;
+  /// The interaction points round a slice the wall's per-point values are given for: a
+  /// slice with another count (ScopeParams::points_per_slice) scales them, and the point
+  /// force limit, by this count over its own, so that the wall is as stiff per area of
+  /// scope whatever the sampling round it. The tip face's points keep them as given. 0: per
+  /// point whatever the count (the paper's eq. 7).
+  int wall_reference_points_per_slice = 6;
   /// The wall bottoms out: a distended colon's wall is under 3 mm thick, and a point
   /// pressed deeper than wall_thickness_m presses on what lies behind the wall, not on
   /// mucosa. Beyond it the point's normal force gains wall_backing_stiffness_N_per_m per

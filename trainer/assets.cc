@@ -149,6 +149,11 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   cp.wall_damping_Ns_per_m = contact.quantity("wall_damping", "N s/m", 0.0, 1e4);
   if (contact.has("wall_reference_slice_length"))
     cp.wall_reference_slice_m = contact.quantity("wall_reference_slice_length", "m", 0.0, 0.1);
+  if (contact.has("wall_reference_points_per_slice")) {
+    const double n = contact.quantity("wall_reference_points_per_slice", "1", 0.0, 32.0);
+    if (n != static_cast<int>(n)) contact.fail("wall_reference_points_per_slice", "must be a whole number");
+    cp.wall_reference_points_per_slice = static_cast<int>(n);
+  }
   if (contact.has("wall_thickness")) cp.wall_thickness_m = contact.quantity("wall_thickness", "m", 0.0, 0.02);
   if (contact.has("wall_backing_stiffness"))
     cp.wall_backing_stiffness_N_per_m = contact.quantity("wall_backing_stiffness", "N/m", 0.0, 1e6);

@@ -277,6 +277,35 @@ TEST(ContactForces, WallStiffnessIsPerLengthOfScope) {
   EXPECT_NEAR(pointForce(0.0075, 0.015, false, deep), 0.5 * p.contact.max_point_force_N, 1e-9);
 }
 
+// ... and per area: twice the points round a slice give each half the force, so that a slice
+// pressed all round carries the same whatever its sampling; the limit with it; the tip
+// face's points and a reference count of 0 (the paper's eq. 7) keep the per-point values.
+TEST(ContactForces, WallStiffnessIsPerAreaOfScope) {
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  ASSERT_EQ(p.scope.points_per_slice, p.contact.wall_reference_points_per_slice);
+  auto pointForce = [&](int points, int reference, bool face, double depth_m) {
+    Parameters q = p;
+    q.scope.points_per_slice = points;
+    q.contact.wall_reference_points_per_slice = reference;
+    const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), q);
+    WorldState s = makeWorldState(m);
+    threadScopeAlongColon(m, s, 0.2);
+    std::vector<WallContact> contacts = {pressedPoint(m, s, face, depth_m)};
+    std::vector<SplineLoad> colon_loads;
+    std::vector<ScopeLoad> scope_loads;
+    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
+    return contacts[0].normal_force_N;
+  };
+  const double d = 0.002;  // within the wall's thickness, well below the limit
+  const double six = pointForce(6, 6, false, d);
+  EXPECT_NEAR(six, p.contact.wall_stiffness_N_per_m * d, 1e-9);
+  EXPECT_NEAR(pointForce(12, 6, false, d), 0.5 * six, 1e-9);
+  EXPECT_NEAR(pointForce(12, 6, true, d), pointForce(6, 6, true, d), 1e-9);
+  EXPECT_NEAR(pointForce(12, 0, false, d), six, 1e-9);
+  const double deep = 3 * p.contact.max_point_force_N / p.contact.wall_stiffness_N_per_m;
+  EXPECT_NEAR(pointForce(12, 6, false, deep), 0.5 * p.contact.max_point_force_N, 1e-9);
+}
+
 // The wall bottoms out (ContactParams::wall_thickness_m): within the wall's thickness the
 // normal force is the paper's k d; beyond it the backing adds k_b (d - t), and the
 // stiffness handed to the implicit solves is k + k_b, continuous in force at d = t. With

@@ -126,6 +126,24 @@ TEST(Assets, WallReferenceSliceLengthIsOptionalAndInRange) {
   expectInputError([&] { loadParameters(bad); }, {bad, "contact.wall_reference_slice_length.value", "out of range"});
 }
 
+// contact.wall_reference_points_per_slice is optional (left out: 6, the shipped count), a
+// whole number within [0, 32].
+TEST(Assets, WallReferencePointsPerSliceIsOptionalWholeAndInRange) {
+  test::TempDir dir;
+  EXPECT_EQ(loadParameters(test::asset("params/default.json")).contact.wall_reference_points_per_slice, 6);
+  const std::string key = "\"query_margin\": {";
+  auto with = [&](const std::string& name, const std::string& value) {
+    return dir.write(name, paramsWith(key, "\"wall_reference_points_per_slice\": {\"value\": " + value +
+                                               ", \"unit\": \"1\", \"source\": \"test\"},\n    " + key));
+  };
+  EXPECT_EQ(loadParameters(with("eight.json", "8")).contact.wall_reference_points_per_slice, 8);
+  EXPECT_EQ(loadParameters(with("none.json", "0")).contact.wall_reference_points_per_slice, 0);
+  const std::string bad = with("bad.json", "40");
+  expectInputError([&] { loadParameters(bad); }, {bad, "contact.wall_reference_points_per_slice.value", "out of range"});
+  const std::string half = with("half.json", "6.5");
+  expectInputError([&] { loadParameters(half); }, {half, "wall_reference_points_per_slice", "whole number"});
+}
+
 TEST(Assets, NaNAndInfinityAreRefused) {
   test::TempDir dir;
   const std::string nan = dir.write("nan.json", paramsWith("\"value\": 0.4", "\"value\": NaN"));
