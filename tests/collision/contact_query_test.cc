@@ -246,6 +246,18 @@ WallContact pressedPoint(const WorldModel& m, const WorldState& s, bool face, do
   return c;
 }
 
+// The normal force of that contact on the adult colon with parameters q.
+double pressedPointForce(const Parameters& q, bool face, double depth_m) {
+  const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), q);
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, 0.2);
+  std::vector<WallContact> contacts = {pressedPoint(m, s, face, depth_m)};
+  std::vector<SplineLoad> colon_loads;
+  std::vector<ScopeLoad> scope_loads;
+  applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
+  return contacts[0].normal_force_N;
+}
+
 // The wall is stiff per length of scope, not per interaction point: the same depth on a
 // slice half as long (segments of 0.75 cm) gives half the force per point, so that the
 // wall's force per metre of scope pressed into it does not change with the resolution.
@@ -257,14 +269,7 @@ TEST(ContactForces, WallStiffnessIsPerLengthOfScope) {
     Parameters q = p;
     q.scope.segment_length_m = segment_m;
     q.contact.wall_reference_slice_m = reference_m;
-    const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), q);
-    WorldState s = makeWorldState(m);
-    threadScopeAlongColon(m, s, 0.2);
-    std::vector<WallContact> contacts = {pressedPoint(m, s, face, depth_m)};
-    std::vector<SplineLoad> colon_loads;
-    std::vector<ScopeLoad> scope_loads;
-    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
-    return contacts[0].normal_force_N;
+    return pressedPointForce(q, face, depth_m);
   };
   const double d = 0.002;  // 2 N at 1000 N/m: well below the limit
   const double coarse = pointForce(0.015, 0.015, false, d), fine = pointForce(0.0075, 0.015, false, d);
@@ -287,14 +292,7 @@ TEST(ContactForces, WallStiffnessIsPerAreaOfScope) {
     Parameters q = p;
     q.scope.points_per_slice = points;
     q.contact.wall_reference_points_per_slice = reference;
-    const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), q);
-    WorldState s = makeWorldState(m);
-    threadScopeAlongColon(m, s, 0.2);
-    std::vector<WallContact> contacts = {pressedPoint(m, s, face, depth_m)};
-    std::vector<SplineLoad> colon_loads;
-    std::vector<ScopeLoad> scope_loads;
-    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
-    return contacts[0].normal_force_N;
+    return pressedPointForce(q, face, depth_m);
   };
   const double d = 0.002;  // within the wall's thickness, well below the limit
   const double six = pointForce(6, 6, false, d);
