@@ -11,7 +11,7 @@
 //     how far the tip slid back;
 //   - the steps in which a solver or contact limit engaged, in all four runs;
 //   - with --abuse, `extreme_all` and the 8 variants of its script that sessions 27-29
-//     measured (times x 0.8-1.2, knobs x 0.6-1; the extreme tests' everythingAtOnce): per run
+//     measured (times x 0.8-1.2, knobs x 0.6-1; everythingAtOnce, trainer/clinical_manoeuvres.h): per run
 //     the limited steps, the steps out of the lumen, the deepest point and the largest track
 //     jump, and the sums (docs/hardening.md, session 29).
 // About 20 s of one core per file; --abuse adds about 3 minutes.
@@ -59,13 +59,7 @@ int main(int argc, char** argv) {
                                   {1.0, 0.8}, {1.05, 1.0}, {1.1, 0.8}, {1.2, 1.0}};
     long limited = 0, exits = 0;
     for (const auto& v : variants) {
-      Scenario sc = findScenario(assetPath("scenarios/extreme/extreme_all.json"));
-      sc.duration_s *= v[0];
-      for (Keyframe& k : sc.script) {
-        k.t_s *= v[0];
-        k.input.knob_updown_rad *= v[1];
-        k.input.knob_leftright_rad *= v[1];
-      }
+      const Scenario sc = everythingAtOnce(v[0], v[1]);
       WorldSimulation sim(sc, p);
       const RunResult r = runScenario(sc, sim, nullptr);
       const long l = r.scores["solver_limited_steps"].get<long>(), e = r.scores["lumen_exit_steps"].get<long>();

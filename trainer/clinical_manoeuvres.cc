@@ -74,4 +74,15 @@ HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m, d
   return w;
 }
 
+Scenario everythingAtOnce(double time_scale, double knob_scale) {
+  Scenario sc = findScenario(assetPath("scenarios/extreme/extreme_all.json"));
+  sc.duration_s *= time_scale;
+  for (Keyframe& k : sc.script) {
+    k.t_s *= time_scale;
+    k.input.knob_updown_rad *= knob_scale;
+    k.input.knob_leftright_rad *= knob_scale;
+  }
+  return sc;
+}
+
 }  // namespace colosim

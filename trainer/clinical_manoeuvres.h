@@ -6,6 +6,7 @@
 #pragma once
 
 #include "trainer/assets.h"
+#include "trainer/scenario.h"
 
 namespace colosim {
 
@@ -32,5 +33,10 @@ struct HookedWithdrawal {
   long limited_steps = 0;     ///< steps in which a solver or contact limit engaged (from 30 s)
 };
 HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m = 0.15, double withdraw_s = 8.0);
+
+/// The abuse script `extreme_all` (everything at once) with its script's times and knob
+/// angles scaled: the withdrawal at 1 / time_scale m/s, the knobs through knob_scale of their
+/// range. The extreme tests and trainer_patient_map --abuse run its variants.
+Scenario everythingAtOnce(double time_scale, double knob_scale);
 
 }  // namespace colosim

@@ -15,6 +15,7 @@
 #include "core/scope_step.h"
 #include "core/spline.h"
 #include "fixture.h"
+#include "trainer/clinical_manoeuvres.h"
 #include "trainer/replay.h"
 #include "trainer/scenario.h"
 #include "trainer/score.h"
@@ -160,19 +161,6 @@ TEST(ExtremeInputs, KnobsSwungAndSlammedEndToEnd) {
   const ExtremeRun r = runExtreme("extreme_knobs");
   expectSurvived(r);
   expectInTheLumen(r);
-}
-
-// Everything at once with its script's times and knob angles scaled: the withdrawal at
-// 1 / time_scale m/s, the knobs through knob_scale of their range.
-Scenario everythingAtOnce(double time_scale, double knob_scale) {
-  Scenario sc = findScenario(test::asset("scenarios/extreme/extreme_all.json"));
-  sc.duration_s *= time_scale;
-  for (Keyframe& k : sc.script) {
-    k.t_s *= time_scale;
-    k.input.knob_updown_rad *= knob_scale;
-    k.input.knob_leftright_rad *= knob_scale;
-  }
-  return sc;
 }
 
 // The withdrawal of everything at once gathers the free sigmoid onto the spinning scope
