@@ -1,4 +1,4 @@
-// trainer_patient_map PARAMS.json... [--withdraw-m M] [--withdraw-s S]
+// trainer_patient_map PARAMS.json... [--withdraw-m M] [--withdraw-s S] [--abuse]
 //
 // Issue 21's two phenomena on candidate patients (docs/clinical-mechanics.md, session 29):
 // for each parameter file, one line with
@@ -14,7 +14,7 @@
 //     measured (times x 0.8-1.2, knobs x 0.6-1; everythingAtOnce, trainer/clinical_manoeuvres.h): per run
 //     the limited steps, the steps out of the lumen, the deepest point and the largest track
 //     jump, and the sums (docs/hardening.md, session 29).
-// About 20 s of one core per file; --abuse adds about 3 minutes.
+// About 20 s of one core per file; --abuse adds about 10 s.
 #include <cstdio>
 #include <string>
 #include <vector>

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "trainer/scenario.h"
@@ -54,8 +55,8 @@ HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m, d
   int sigmoid = -1;
   for (size_t r = 0; r < sim.model().colon.region_names.size(); ++r)
     if (sim.model().colon.region_names[r] == "sigmoid") sigmoid = static_cast<int>(r);
+  if (sigmoid < 0) throw std::runtime_error("hookedWithdrawal: the anatomy of free_insertion has no sigmoid region");
   HookedWithdrawal w;
-  if (sigmoid < 0) return w;
   double tip_at_hook = 0;
   w.sigmoid_least = 1e9;
   const long hook_step = std::lround(t0 / sim.dt_s());

@@ -227,8 +227,8 @@ const WorldState::ThreadingStop& stopAt(const WorldState& s, int i) {
 // The threading stop (stopThreading): a control point 1 mm short of a contact, closing on
 // it at 2 m/s (the colon swept sideways past the scope), would go about 1 mm beyond the
 // wall's thickness in one 1 ms step: the penalty is found only at the start of the step.
-// The stop holds it within half the depth where the spring alone asks the force limit
-// (0.33 mm), and the scope takes the other half of the impulse (its axis point there moves
+// The stop holds it where the spring asks ContactParams::threading_stop_force_N (10 N:
+// 0.33 mm), and the scope takes the other half of the impulse (its axis point there moves
 // towards the control point). A control point that is not closing that fast is left bit
 // for bit.
 TEST(ColonThreading, TheStopHoldsAControlPointClosingFasterThanOneStepAllows) {
