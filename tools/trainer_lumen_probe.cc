@@ -10,6 +10,13 @@
 // against its end positions, as `colosim run` counts) next to the same measure on fresh
 // tracks (the end state copied and its contacts found again, as the next step will): where
 // the scope slides along a taper, the first can count a slice that a fresh track finds inside.
+// With FRESH=1 each reported slice out of its lumen also shows its fresh track, and the end
+// counts the exit steps whose every slice out is inside on a fresh track (the run's measure
+// only: the slice crossed into the next tube of the same colon within the step).
+// Each report gives the handle's force and torque and the contacts' normal forces (summed
+// and largest: the wall's interaction points, the threading contacts), so that a wedge or a
+// coil pressed out by torque shows itself. LIMITS=1 prints every solver_limited event as
+// it happens (what was limited, asked against the limit: docs/hardening.md).
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
@@ -42,14 +49,39 @@ int main(int argc, char** argv) {
   std::unique_ptr<ContactQuery> query = fresh ? makeContactQuery(m, "fcl") : nullptr;
   LumenCheck worst[2];  // the run's measure, on fresh tracks
   long exits[2] = {0, 0};
+  long run_only_exits = 0;  // exit steps of the run's measure with every slice out inside on a fresh track
+  const bool limits = std::getenv("LIMITS") != nullptr;
+  // A slice's centre against the lumen of a track: distance [m] and whether it is outside.
+  auto against = [&](const WorldState& st, const WallTrack& t, const Vec3& x, double* d) {
+    *d = (x - splinePoint(st.colon.q, t.colon_segment, t.p)).norm();
+    return *d > m.colon.radiusAt(t.colon_segment, t.p);
+  };
   for (long k = 0; k < steps && (fresh || reports < max_reports); ++k) {
     sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
     const WorldState& s = sim.state();
     const LumenCheck c = checkLumen(m, s, arc);
+    if (limits)
+      for (const SimulationEvent& e : sim.events())
+        if (e.name == "solver_limited") std::printf("t %.3f s: solver_limited: %s\n", sim.time_s(), e.detail.c_str());
+    WorldState again;  // with FRESH, the end state with its contacts found again
     if (fresh) {
-      WorldState again = s;
+      again = s;
       query->findWallContacts(m, again);
       const LumenCheck f = checkLumen(m, again, arc);
+      if (c.lumen_exit) {  // every slice out of its start track's lumen inside on its fresh track?
+        bool all_inside = true;
+        const int slices = m.scope.params.slices_per_segment;
+        for (int seg = 0; seg < s.scope.inside && all_inside; ++seg)
+          for (int sl = 0; sl < slices; ++sl) {
+            const WallTrack& t0 = s.slice_track[seg * slices + sl];
+            const WallTrack& t1 = again.slice_track[seg * slices + sl];
+            if (t0.colon_segment < 0 || t1.colon_segment < 0) continue;
+            const Vec3 x = sliceCentre(m.scope, s.scope, seg, sl);
+            double d0, d1;
+            if (against(s, t0, x, &d0) && against(again, t1, x, &d1)) all_inside = false;
+          }
+        if (all_inside) ++run_only_exits;
+      }
       int i = 0;
       for (const LumenCheck* x : {&c, &f}) {
         exits[i] += x->lumen_exit ? 1 : 0;
@@ -65,6 +97,16 @@ int main(int argc, char** argv) {
     ++reports;
     std::printf("t %.3f s: jump %.4f m, penetration %.4f m, exit %d, insertion %.3f m, %d segments in\n", sim.time_s(),
                 c.track_jump_m, c.wall_penetration_m, c.lumen_exit ? 1 : 0, s.scope.input.insertion_m, s.scope.inside);
+    {
+      double wall_sum = 0, wall_max = 0, thread_sum = 0, thread_max = 0;
+      for (const WallContact& w : s.wall) wall_sum += w.normal_force_N, wall_max = std::max(wall_max, w.normal_force_N);
+      for (const WallContact& w : s.threading)
+        thread_sum += w.normal_force_N, thread_max = std::max(thread_max, w.normal_force_N);
+      std::printf("  handle %.1f N, %.3f N m; wall: %zu points, %.1f N in all, largest %.1f N; threading: %zu, %.1f N, "
+                  "largest %.1f N; contacts limited %d\n",
+                  s.scope.handle.force_N, s.scope.handle.torque_Nm, s.wall.size(), wall_sum, wall_max, s.threading.size(),
+                  thread_sum, thread_max, s.contact_limit.limited);
+    }
     const int slices = m.scope.params.slices_per_segment;
     // Present arclength at the control points, as checkLumen measures it [m].
     std::vector<double> at(m.colon.n, 0.0);
@@ -88,9 +130,16 @@ int main(int argc, char** argv) {
         previous_m = a_m;
         if (!all && !out && jump_m < 0.03 && std::abs(near.segment - t.colon_segment) <= 1) continue;
         if (jump_m >= 0.03) std::printf("  (jump %.4f m)\n", jump_m);
-        std::printf("  segment %3d slice %d  x (%7.3f %7.3f %7.3f)  track %3d/%.2f  d %.4f r %.4f  %s| nearest %3d/%.2f d %.4f\n",
+        std::printf("  segment %3d slice %d  x (%7.3f %7.3f %7.3f)  track %3d/%.2f  d %.4f r %.4f  %s| nearest %3d/%.2f d %.4f",
                     seg, sl, x.x(), x.y(), x.z(), t.colon_segment, t.p, d, m.colon.radiusAt(t.colon_segment, t.p),
                     d > m.colon.radiusAt(t.colon_segment, t.p) ? "OUT " : "    ", near.segment, near.p, near.distance);
+        if (fresh && out) {
+          const WallTrack& t1 = again.slice_track[seg * slices + sl];
+          double d1 = 0;
+          const bool out1 = t1.colon_segment >= 0 && against(again, t1, x, &d1);
+          std::printf(" | fresh %3d/%.2f d %.4f %s", t1.colon_segment, t1.p, d1, out1 ? "OUT" : "inside");
+        }
+        std::printf("\n");
       }
   }
   if (fresh)
@@ -98,5 +147,7 @@ int main(int argc, char** argv) {
       std::printf("%s: lumen exit steps %ld, largest jump %.4f m, deepest point %.4f m\n",
                   i == 0 ? "run's measure (start tracks)" : "fresh tracks (end state)  ", exits[i],
                   worst[i].track_jump_m, worst[i].wall_penetration_m);
+  if (fresh)
+    std::printf("exit steps of the run's measure whose slices out are all inside on fresh tracks: %ld\n", run_only_exits);
   return 0;
 }
