@@ -21,8 +21,18 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
   const int per_slice = scope.params.points_per_slice;
   const int slices = scope.params.slices_per_segment;
   const double slice_length_m = scope.h_m / slices;
+  // The centreline point and radius of the last track asked for: the points of a slice
+  // inside the lumen share their slice centre's track, so most tracks come in runs.
+  WallTrack last{-1, 0.0};
+  Vec3 last_point = Vec3::Zero();
+  double last_radius = 0;
   auto beyondWall = [&](const Vec3& x, const WallTrack& t) {
-    return (x - splinePoint(s.colon.q, t.colon_segment, t.p)).norm() - colon.radiusAt(t.colon_segment, t.p);
+    if (t.colon_segment != last.colon_segment || t.p != last.p) {
+      last = t;
+      last_point = splinePoint(s.colon.q, t.colon_segment, t.p);
+      last_radius = colon.radiusAt(t.colon_segment, t.p);
+    }
+    return (x - last_point).norm() - last_radius;
   };
   // The track is the step's start one: where the scope slides along a taper it can lag
   // the slice by a segment end (the tip 0.1 mm beyond the wall at its track, inside at the
@@ -51,14 +61,18 @@ LumenCheck checkLumen(const WorldModel& m, const WorldState& s, std::vector<doub
       if (have_previous) out.track_jump_m = std::max(out.track_jump_m, std::abs(a - previous_arc) - slice_length_m);
       have_previous = true;
       previous_arc = a;
-      if (!out.lumen_exit) {
-        const Vec3 centre = sliceCentre(scope, s.scope, k, sl);
-        if (beyondWall(centre, t) > 0 && !insideNear(centre, t.colon_segment)) out.lumen_exit = true;
-      }
+      const Vec3 centre = sliceCentre(scope, s.scope, k, sl);
+      const double centre_beyond_m = beyondWall(centre, t);
+      if (!out.lumen_exit && centre_beyond_m > 0 && !insideNear(centre, t.colon_segment)) out.lumen_exit = true;
+      // The ring's points lie the scope's radius from the centre: those tracked where the
+      // centre is are inside when the centre is inside by the radius and a margin (1 nm,
+      // far above rounding), so they cannot raise the deepest penetration (from 0).
+      const bool ring_inside = centre_beyond_m + scope.radius_m + 1e-9 <= 0;
       for (int i = sl * per_slice; i < (sl + 1) * per_slice; ++i) {
         const WallTrack& ti = s.track[static_cast<size_t>(k) * P + i];
-        if (ti.colon_segment >= 0)
-          out.wall_penetration_m = std::max(out.wall_penetration_m, beyondWall(interactionPoint(scope, s.scope, k, i), ti));
+        if (ti.colon_segment < 0) continue;
+        if (ring_inside && ti.colon_segment == t.colon_segment && ti.p == t.p) continue;
+        out.wall_penetration_m = std::max(out.wall_penetration_m, beyondWall(interactionPoint(scope, s.scope, k, i), ti));
       }
     }
   }

@@ -17,19 +17,27 @@ Simulation::~Simulation() = default;
 double mesenteryStretch(const ColonModel& model, const ColonState& state) {
   const double g_m_per_s2 = model.gravity_m_per_s2.norm();
   if (!(g_m_per_s2 > 0)) return 0.0;
+  // Measured after every step: the scratch is kept per thread, the classes compared once
+  // per region (not per point and step), so that the measure allocates nothing.
+  thread_local std::vector<double> d, f;
+  thread_local Eigen::Matrix3Xd force;
+  thread_local std::vector<char> pelvic_region;
+  d.resize(model.n);
+  f.resize(model.n);
+  force.resize(3, model.n);
   // Lifter forces at the control points: F = K (q - q0), one coordinate at a time.
-  std::vector<double> d(model.n), f(model.n);
-  Eigen::Matrix3Xd force(3, model.n);
   for (int c = 0; c < 3; ++c) {
     for (int i = 0; i < model.n; ++i) d[i] = state.q(c, i) - model.q_rest(c, i);
     model.mesentery_K.multiply(d.data(), f.data());
     for (int i = 0; i < model.n; ++i) force(c, i) = f[i];
   }
+  pelvic_region.resize(model.region_mesentery.size());
+  for (size_t r = 0; r < model.region_mesentery.size(); ++r) pelvic_region[r] = model.region_mesentery[r] == "pelvic";
   // Pelvic points: a segment of point i's support (its lifter row, segments i-2..i+1) is
   // in a "pelvic" region.
   auto pelvic = [&model](int i) {
     for (int j = std::max(0, i - 2); j <= std::min(model.n - 2, i + 1); ++j)
-      if (model.region_mesentery[model.segment_region[j]] == "pelvic") return true;
+      if (pelvic_region[model.segment_region[j]]) return true;
     return false;
   };
   double largest = 0.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <complex>
 
 #include <Eigen/Geometry>
@@ -28,8 +29,8 @@ double crossingLoopTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal
   const Vec3 n = normal.normalized();
   // A right-handed basis (u, v, n) of the plane: angles in it are anticlockwise seen from n.
   const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
-  std::vector<Eigen::Vector2d> p;
-  p.reserve(polyline_m.size());
+  thread_local std::vector<Eigen::Vector2d> p;  // measured after every step: no allocation once grown
+  p.clear();
   for (const Vec3& x : polyline_m) {
     const Eigen::Vector2d q(u.dot(x), v.dot(x));
     if (p.empty() || (q - p.back()).norm() >= 1e-9) p.push_back(q);  // drop null segments
@@ -37,6 +38,15 @@ double crossingLoopTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal
   const int segments = static_cast<int>(p.size()) - 1;
   auto cross2 = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
   auto turn = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return std::atan2(cross2(a, b), a.dot(b)); };
+  // The turn at each vertex, computed the first time a loop runs through it (NaN until
+  // then): loops found at several crossings share most of their vertices.
+  thread_local std::vector<double> vertex_turn;
+  vertex_turn.assign(std::max(segments - 1, 0), std::numeric_limits<double>::quiet_NaN());
+  auto turnAt = [&](int i) {
+    double& v = vertex_turn[i];
+    if (std::isnan(v)) v = turn(p[i + 1] - p[i], p[i + 2] - p[i + 1]);
+    return v;
+  };
   double best = 0.0;
   for (int a = 0; a < segments; ++a) {
     const Eigen::Vector2d da = p[a + 1] - p[a];
@@ -51,7 +61,7 @@ double crossingLoopTurns(const std::vector<Vec3>& polyline_m, const Vec3& normal
       if (s < 0 || s >= 1 || t < 0 || t >= 1) continue;
       // The loop's edges run along segments a, a+1, ..., b, then close from b back to a at X.
       double total_rad = turn(db, da);
-      for (int i = a; i < b; ++i) total_rad += turn(p[i + 1] - p[i], p[i + 2] - p[i + 1]);
+      for (int i = a; i < b; ++i) total_rad += turnAt(i);
       const double turns = std::round(total_rad / (2.0 * 3.14159265358979323846));
       if (std::abs(turns) > std::abs(best)) best = turns;
     }
