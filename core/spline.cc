@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <vector>
 
 namespace colosim {
 
@@ -107,14 +108,39 @@ double parameterAtArclength(const Points& q, int segment, double s_m) {
   return p;
 }
 
+namespace {
+
+// The four blends segmentCubic() needs (the value and derivatives at p = 0, the second
+// derivative at p = 1) depend on the segment's place among n control points only: built
+// once per thread and n, the same values blend() gives (every cubic of every step used to
+// build them again).
+struct CubicBlends {
+  Blend b[4];
+};
+const CubicBlends& cubicBlends(int n, int segment) {
+  assert(n >= 2 && segment >= 0 && segment <= n - 2);
+  thread_local int built_n = -1;
+  thread_local std::vector<CubicBlends> table;
+  if (built_n != n) {
+    table.resize(static_cast<size_t>(n - 1));
+    for (int j = 0; j + 1 < n; ++j)
+      table[j] = {{blend(n, j, 0.0, 0), blend(n, j, 0.0, 1), blend(n, j, 0.0, 2), blend(n, j, 1.0, 2)}};
+    built_n = n;
+  }
+  return table[static_cast<size_t>(segment)];
+}
+
+}  // namespace
+
 SegmentCubic segmentCubic(const Points& q, int segment) {
   const int n = static_cast<int>(q.cols());
   // From the value and derivatives at p = 0 and the second derivative at p = 1.
+  const CubicBlends& b = cubicBlends(n, segment);
   SegmentCubic c;
-  c.c0 = apply(blend(n, segment, 0.0, 0), q);
-  c.c1 = apply(blend(n, segment, 0.0, 1), q);
-  const Vec3 d2a = apply(blend(n, segment, 0.0, 2), q);
-  const Vec3 d2b = apply(blend(n, segment, 1.0, 2), q);
+  c.c0 = apply(b.b[0], q);
+  c.c1 = apply(b.b[1], q);
+  const Vec3 d2a = apply(b.b[2], q);
+  const Vec3 d2b = apply(b.b[3], q);
   c.c2 = 0.5 * d2a;
   c.c3 = (d2b - d2a) / 6.0;
   // c' = e1 + e2 p + e3 p^2 with e1 = c1, e2 = 2 c2, e3 = 3 c3; with d0 = c0 - x,
