@@ -7,7 +7,9 @@
 // inside scope [rad] (the sum of the joints' torsion angles) and how far the tip has spun
 // about its own axis [rad] (its spin integrated over time). Then one summary line: the
 // first time after the scored start when |writhe| stays below 0.5 turn to the end ("loop
-// gone at"), the largest |torque| and the final writhe.
+// gone at"), the largest |torque| and the final writhe; and how far the tip slid back along
+// the colon from the scored start to the end (rest arclength, positive back) and the largest
+// pull, which together tell a hooked tip that held from one that let go (session 30).
 // Variants without editing files:
 //   PARAMS=FILE          use this parameter file (as colosim run --params)
 //   ROTATION_SCALE=F     multiply every keyframe's rotation by F (0: no rotation, -1: the other way)
@@ -47,6 +49,7 @@ int main(int argc, char** argv) {
   const long steps = sc.steps();
   const long every = std::max(1L, std::lround(every_s / sim.dt_s()));
   double peak_torque = 0, gone_at = -1;
+  double tip_at_start_m = -1, largest_pull_N = 0;
   std::printf("%7s %7s %7s %6s %7s %8s %7s %7s %7s %7s %7s %7s\n", "t_s", "ins_m", "rot_rad", "cross", "writhe",
               "torq_Nm", "force_N", "slip_rd", "tip_m", "sigm", "twist", "tipspin");
   double tip_spin_rad = 0;  // integral of the tip segment's spin about its own axis
@@ -55,6 +58,8 @@ int main(int argc, char** argv) {
     tip_spin_rad += sim.state().scope.w_W[0].dot(sim.state().scope.R_WS[0].col(2)) * sim.dt_s();
     const Telemetry t = sim.telemetry();
     if (t.time_s > sc.scoring.start_s) {
+      if (tip_at_start_m < 0) tip_at_start_m = t.tip_arclength_m;
+      largest_pull_N = std::max(largest_pull_N, -t.handle_force_N);
       peak_torque = std::max(peak_torque, std::abs(t.handle_torque_Nm));
       if (std::abs(t.loop_writhe) >= 0.5) gone_at = -1;
       else if (gone_at < 0) gone_at = t.time_s;
@@ -69,7 +74,9 @@ int main(int argc, char** argv) {
                 s.grip_slip_rad, t.tip_arclength_m, sigmoid >= 0 ? t.region_length_ratio[sigmoid] : 0.0, twist_rad, tip_spin_rad);
   }
   const Telemetry t = sim.telemetry();
-  std::printf("loop gone at %s s, peak |torque| %.4f N m, final writhe %.3f, final crossing %.1f\n",
-              gone_at < 0 ? "never" : std::to_string(gone_at).c_str(), peak_torque, t.loop_writhe, t.loop_turns);
+  std::printf("loop gone at %s s, peak |torque| %.4f N m, final writhe %.3f, final crossing %.1f, "
+              "tip back %.3f m, largest pull %.1f N\n",
+              gone_at < 0 ? "never" : std::to_string(gone_at).c_str(), peak_torque, t.loop_writhe, t.loop_turns,
+              tip_at_start_m < 0 ? 0.0 : tip_at_start_m - t.tip_arclength_m, largest_pull_N);
   return 0;
 }
