@@ -122,9 +122,9 @@ int main(int argc, char** argv) {
         const WallTrack& t = s.slice_track[seg * slices + sl];
         const Vec3 x = sliceCentre(m.scope, s.scope, seg, sl);
         if (t.colon_segment < 0) continue;
-        const double d = (x - splinePoint(s.colon.q, t.colon_segment, t.p)).norm();
+        double d;
+        const bool out = against(s, t, x, &d);
         const ClosestPoint near = closestPointOnSpline(s.colon.q, x);
-        const bool out = d > m.colon.radiusAt(t.colon_segment, t.p);
         const double a_m = at[t.colon_segment] + t.p * (at[t.colon_segment + 1] - at[t.colon_segment]);
         const double jump_m = previous_m < 0 ? 0.0 : std::abs(a_m - previous_m) - m.scope.h_m / slices;
         previous_m = a_m;
@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
         if (jump_m >= 0.03) std::printf("  (jump %.4f m)\n", jump_m);
         std::printf("  segment %3d slice %d  x (%7.3f %7.3f %7.3f)  track %3d/%.2f  d %.4f r %.4f  %s| nearest %3d/%.2f d %.4f",
                     seg, sl, x.x(), x.y(), x.z(), t.colon_segment, t.p, d, m.colon.radiusAt(t.colon_segment, t.p),
-                    d > m.colon.radiusAt(t.colon_segment, t.p) ? "OUT " : "    ", near.segment, near.p, near.distance);
+                    out ? "OUT " : "    ", near.segment, near.p, near.distance);
         if (fresh && out) {
           const WallTrack& t1 = again.slice_track[seg * slices + sl];
           double d1 = 0;
