@@ -43,7 +43,7 @@ double relaxWeight(double x) { return x < 1e-8 ? 1.0 - 0.5 * x : -std::expm1(-x)
 // The same with exp(-x) known (one transcendental per branch and step).
 double relaxWeight(double x, double em) { return x < 1e-4 ? 1.0 - 0.5 * x + x * x / 6.0 : (1.0 - em) / x; }
 
-enum Z { kEPrev = 0, kFsPrev = 1, kH1 = 2, kH2 = 3, kAcc = 4, kEMax = 5, kScale = 6, kDFsPrev = 7 };
+enum Z { kEPrev = 0, kFsPrev = 1, kH1 = 2, kH2 = 3, kAcc = 4, kEMax = 5, kScale = 6, kDFsPrev = 7, kAccYield = 8 };
 
 }  // namespace
 
@@ -82,6 +82,7 @@ bool ExtendedLawParams::set(const std::string& name, double v) {
   else if (name == "soften_a_c") soften_a_c = v;
   else if (name == "set_ratio") set_ratio = v;
   else if (name == "set_yield_strain") set_yield_strain = v, set_yield = true;
+  else if (name == "set_ratchet") set_ratchet = v, set_ratcheting = true;
   else return false;
   return true;
 }
@@ -112,6 +113,7 @@ void ExtendedLawParams::validate() const {
     if (set_yield)
       check(std::isfinite(set_yield_strain) && set_yield_strain >= 0 && set_yield_strain <= 10,
             "set_yield_strain in [0, 10]");
+    if (set_ratcheting) check(std::isfinite(set_ratchet) && set_ratchet >= 0 && set_ratchet < 1, "set_ratchet in [0, 1)");
   }
 }
 
@@ -141,6 +143,7 @@ std::vector<LawParameter> ExtendedTensionLaw::parameters() const {
   if (p_.permanent_set) {
     out.push_back({"set_ratio", p_.set_ratio, "1"});
     if (p_.set_yield) out.push_back({"set_yield_strain", p_.set_yield_strain, "1"});
+    if (p_.set_ratcheting) out.push_back({"set_ratchet", p_.set_ratchet, "1"});
   }
   return out;
 }
@@ -152,15 +155,16 @@ void ExtendedTensionLaw::initInternal(double* z) const {
   z[kDFsPrev] = p_.ea_N;  // dFs/de of the virgin sample at zero strain
 }
 
-double ExtendedTensionLaw::setStrain(double e_max) const {
-  return p_.set_yield ? p_.set_ratio * std::max(0.0, e_max - p_.set_yield_strain) : p_.set_ratio * e_max;
+double ExtendedTensionLaw::setStrain(double e_max, double a_y) const {
+  const double ep = p_.set_yield ? p_.set_ratio * std::max(0.0, e_max - p_.set_yield_strain) : p_.set_ratio * e_max;
+  return p_.set_ratcheting ? ep + p_.set_ratchet * a_y : ep;
 }
 
 void ExtendedTensionLaw::elastic(double strain, const double* z, double* f, double* df) const {
   double x = strain;
   double scale = 1.0;
   if (z) {
-    if (p_.permanent_set) x -= setStrain(z[kEMax]);
+    if (p_.permanent_set) x -= setStrain(z[kEMax], z[kAccYield]);
     scale = z[kScale];
   }
   fung(p_.ea_N, p_.strain_stiffening, p_.fung_b, x, f, df);
@@ -204,6 +208,10 @@ void ExtendedTensionLaw::advance(double strain, double /*strain_rate*/, double d
   // History variables first (they set the elastic curve at the end of the step).
   const double loading = strain > 0 ? std::max(0.0, strain - std::max(0.0, z[kEPrev])) : 0.0;
   z[kAcc] += loading;
+  if (p_.set_ratcheting) {
+    const double from = std::max(std::max(0.0, z[kEPrev]), p_.set_yield ? p_.set_yield_strain : 0.0);
+    z[kAccYield] += std::max(0.0, strain - from);
+  }
   z[kEMax] = std::max(z[kEMax], strain);
   if (p_.cyclic_softening && loading > 0)  // d(a) changes only while loading
     z[kScale] = 1.0 - p_.soften_d_inf * -std::expm1(-z[kAcc] / p_.soften_a_c);
@@ -228,7 +236,7 @@ void ExtendedTensionLaw::advance(double strain, double /*strain_rate*/, double d
 double ExtendedTensionLaw::storedEnergy(double strain, const double* z) const {
   double x = strain, scale = 1.0;
   if (any_ && z) {
-    if (p_.permanent_set) x -= setStrain(z[kEMax]);
+    if (p_.permanent_set) x -= setStrain(z[kEMax], z[kAccYield]);
     scale = z[kScale];
   }
   return scale * fungEnergy(p_.ea_N, p_.strain_stiffening, p_.fung_b, x);

@@ -32,9 +32,14 @@
 //                      Optionally with a yield strain e_y [-] (set_yield): e_p = r max(0, e_max - e_y),
 //                      no set until the sample has been stretched beyond e_y; e_y = 0 is the
 //                      law without a threshold.
+//                      Optionally ratcheting (set_ratchet c [-]): e_p gains c a_y, a_y the loading
+//                      strain accumulated above e_y (the sum of the strain increases beyond
+//                      max(e_prev, e_y)), so every cycle past the yield strain adds set, not only
+//                      a new largest strain: e_p = r max(0, e_max - e_y) + c a_y.
 //
-// Internal variables per element (internalSize() = 8 when any effect is on, 0 otherwise):
-//   z = [e_prev, Fs_prev [N], h_1 [N], h_2 [N], a [-], e_max [-], 1 - d(a) [-], dFs/de at e_prev [N]]
+// Internal variables per element (internalSize() = 9 when any effect is on, 0 otherwise):
+//   z = [e_prev, Fs_prev [N], h_1 [N], h_2 [N], a [-], e_max [-], 1 - d(a) [-], dFs/de at e_prev [N],
+//        a_y [-]]
 // (the last two are caches of the last advance(), so that evaluate() at the same strain
 // costs no transcendental function).
 // evaluate() gives the force of a step that ends at e with z frozen except for the relaxation
@@ -77,13 +82,16 @@ struct ExtendedLawParams {
   double set_ratio = 0.0;     ///< r: permanent set per unit of the largest strain reached [-]
   bool set_yield = false;     ///< the set has a yield strain (set_yield_strain is a parameter)
   double set_yield_strain = 0.0;  ///< e_y: largest strain without a set (set_yield) [-]
+  bool set_ratcheting = false;  ///< the set grows with every loading past e_y (set_ratchet is a parameter)
+  double set_ratchet = 0.0;   ///< c: set per unit of loading strain accumulated above e_y [-]
 
   /// Names of the effects that are on, in tensionEffectNames() order.
   std::vector<std::string> effects() const;
   /// Switches an effect on by name; throws std::invalid_argument for an unknown name.
   void enable(const std::string& effect);
   /// Sets a parameter by its name in parameters() (relax_g2 / relax_tau2_s select the
-  /// two-term Prony series, set_yield_strain the set with a yield strain); false for an
+  /// two-term Prony series, set_yield_strain the set with a yield strain, set_ratchet the
+  /// ratcheting set); false for an
   /// unknown name.
   bool set(const std::string& name, double value);
   /// Throws std::invalid_argument naming the first parameter out of its range.
@@ -100,7 +108,7 @@ class ExtendedTensionLaw final : public TensionLaw {
   /// EA_N, EC_Ns, then the parameters of the effects that are on.
   std::vector<LawParameter> parameters() const override;
 
-  static constexpr int kInternal = 8;
+  static constexpr int kInternal = 9;
   int internalSize() const override { return any_ ? kInternal : 0; }
   void initInternal(double* z) const override;
   TensionResponse evaluate(double strain, double strain_rate, double dt_s,
@@ -113,8 +121,9 @@ class ExtendedTensionLaw final : public TensionLaw {
  private:
   // Fs(e) and dFs/de with the internal variables z (softening, set) [N].
   void elastic(double strain, const double* z, double* force_N, double* dforce_N) const;
-  // The permanent set e_p [-] after a largest strain e_max [-].
-  double setStrain(double e_max) const;
+  // The permanent set e_p [-] after a largest strain e_max [-] and a loading strain a_y [-]
+  // accumulated above the yield strain.
+  double setStrain(double e_max, double a_y) const;
 
   ExtendedLawParams p_;
   bool any_ = false;

@@ -85,7 +85,7 @@ struct HiddenLaw {
   const TrialSpec& s;
   double e_prev = 0, e_max = 0, acc = 0, fs_prev = 0, h1 = 0, h2 = 0;
   // Harder forms: the damage and the set as state, the Maxwell branch forces.
-  double d_state = 0, ep_state = 0;
+  double d_state = 0, ep_state = 0, acc_yield = 0;
   std::vector<double> hb = std::vector<double>(s.prony_g.size(), 0.0);
 
   double elastic(double e) const {
@@ -123,8 +123,9 @@ struct HiddenLaw {
       if (rest && d_state > floor) d_state += (floor - d_state) * -std::expm1(-h / s.soften_rec_tau_s);
     }
     if (has(s, "permanent_set")) {
-      if (s.set_form == "ratchet") {
-        ep_state += s.set_ratchet_c * std::max(0.0, e - std::max(std::max(0.0, e_prev), s.set_yield_strain));
+      if (s.set_form == "shakedown_ratchet") {
+        acc_yield += std::max(0.0, e - std::max(std::max(0.0, e_prev), s.set_yield_strain));
+        ep_state = s.set_ratchet_c * s.set_shakedown_strain * -std::expm1(-acc_yield / s.set_shakedown_strain);
       } else {
         if (de_load > 0) ep_state = std::max(ep_state, s.set_ratio * std::max(0.0, e - s.set_yield_strain));
         const double floor = (1 - s.set_q) * s.set_ratio * std::max(0.0, e_max - s.set_yield_strain);
@@ -241,11 +242,20 @@ void harderForms(TrialSpec* sp, std::mt19937_64& rng, double stiff_ratio, double
     s.soften_reload_strain = 0.05 * smax;
   }
   if (has(s, "permanent_set")) {
-    s.set_form = ratchet ? "ratchet" : "recovering";
+    s.set_form = ratchet ? "shakedown_ratchet" : "recovering";
     s.set_ratio = set;
     s.set_yield_strain = yield_over_max * smax;
-    if (ratchet) s.set_ratchet_c = set * smax / std::max(1e-9, loadingStrain(s, s.set_yield_strain));
-    else s.set_q = set_q, s.set_rec_tau_s = set_tau;
+    if (ratchet) {
+      // The shakedown's e-folds over the test, from a generator of their own so that every
+      // other draw stays as it was before the ratchet shook down.
+      std::mt19937_64 own(s.seed * 0x9E3779B97F4A7C15ULL + 101);
+      const double efolds = uniformDraw(own, 1.0, 3.0);
+      s.set_shakedown_strain = std::max(1e-9, loadingStrain(s, s.set_yield_strain)) / efolds;
+      // The test ends with a set of r times the largest strain.
+      s.set_ratchet_c = set * smax / (-std::expm1(-efolds) * s.set_shakedown_strain);
+    } else {
+      s.set_q = set_q, s.set_rec_tau_s = set_tau;
+    }
   }
 }
 

@@ -27,8 +27,10 @@
 //                         loading and relaxes towards (1 - q) d* with time constant tau_rec
 //                         otherwise; the driver is the accumulated loading strain or the
 //                         largest strain (drawn)
-//   permanent_set       ratcheting: e_p grows by c de for every strain increase de above a
-//                         yield strain, so repeated cycles to one amplitude keep adding set
+//   permanent_set       a ratchet that shakes down: e_p = E (1 - exp(-a_y / a_s)), a_y the
+//                         loading strain accumulated above a yield strain, so repeated
+//                         cycles to one amplitude keep adding set, each less than the last
+//                         (1-3 e-folds over the test; colosim's ratchet adds the same each time)
 //                       recovering in slack: e_p rises to r max(0, e - e_y) while loading and
 //                         relaxes towards (1 - q) of r max(0, e_max - e_y) while the sample is
 //                         slack (e < e_p), time constant 1-4 s
@@ -77,14 +79,15 @@ struct TrialSpec {
   std::string stiff_form;     ///< "power" or "toe_linear"
   std::string relax_form;     ///< "box_spectrum" or "branches"
   std::string soften_form;    ///< "recovering_accumulated" or "recovering_largest"
-  std::string set_form;       ///< "ratchet" or "recovering"
+  std::string set_form;       ///< "shakedown_ratchet" or "recovering"
   double power_c = 0, power_p = 2;   ///< Fe = EA x (1 + c x^p) [-], [-]
   double toe_strain = 0, toe_width = 0, linear_ratio = 1;  ///< x_t [-], w [-], R [-]
   std::vector<double> prony_g, prony_tau_s;  ///< the Maxwell branches: weights [-], times [s]
   double soften_q = 0;        ///< recoverable fraction of the damage [-]
   double soften_rec_tau_s = 30;   ///< recovery time constant at rest [s]
   double soften_reload_strain = 0.02;  ///< loading strain over which damage returns [-]
-  double set_ratchet_c = 0;   ///< set per unit of loading strain above e_y [-]
+  double set_ratchet_c = 0;   ///< set per unit of loading strain above e_y, at the start [-]
+  double set_shakedown_strain = 1;  ///< a_s: loading strain above e_y per e-fold of the ratchet's slowing [-]
   double set_q = 0;           ///< recoverable fraction of the set in slack [-]
   double set_rec_tau_s = 2;   ///< its time constant [s]
   /// A short name of the drawn forms of the hidden effects, e.g. "power+box_spectrum"

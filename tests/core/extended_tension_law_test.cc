@@ -175,6 +175,53 @@ TEST(ExtendedTensionLaw, ASetWithAYieldStrainStartsOnlyBeyondIt) {
   EXPECT_THROW(ExtendedTensionLaw{p}, std::invalid_argument);
 }
 
+TEST(ExtendedTensionLaw, ARatchetingSetGrowsWithEveryCyclePastTheYieldStrain) {
+  // e_p = r max(0, e_max - e_y) + c a_y: cycles between 0 and 0.4 with e_y = 0.1 add
+  // c (0.4 - 0.1) each, not only the first; the largest strain alone gives r (0.4 - 0.1).
+  ExtendedLawParams p;
+  p.enable("permanent_set");
+  p.ea_N = 20, p.ec_Ns = 0, p.set_ratio = 0.1;
+  ASSERT_TRUE(p.set("set_yield_strain", 0.1));
+  ASSERT_TRUE(p.set("set_ratchet", 0.05));
+  const ExtendedTensionLaw law(p);
+  ASSERT_EQ(law.parameters().back().name, "set_ratchet");
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  for (int cycle = 1; cycle <= 4; ++cycle) {
+    for (int k = 1; k <= 400; ++k) law.advance(0.4 * k / 400, 0, 1e-3, z.data());
+    for (int k = 399; k >= 0; --k) law.advance(0.4 * k / 400, 0, 1e-3, z.data());
+    const double set = 0.1 * 0.3 + 0.05 * 0.3 * cycle;
+    EXPECT_NEAR(law.evaluate(0.3, 0, 1e-3, z.data()).force_N, 20 * (0.3 - set), 1e-9) << "cycle " << cycle;
+    EXPECT_NEAR(law.evaluate(0.5 * set, 0, 1e-3, z.data()).force_N, -20 * 0.5 * set, 1e-9)
+        << "compressed below the set, cycle " << cycle;
+  }
+  // Cycles that stay below the yield strain add nothing.
+  std::vector<double> low(law.internalSize());
+  law.initInternal(low.data());
+  for (int cycle = 0; cycle < 3; ++cycle)
+    for (int k = 0; k <= 200; ++k) law.advance(0.1 * std::sin(M_PI * k / 200), 0, 1e-3, low.data());
+  EXPECT_EQ(law.evaluate(0.05, 0, 1e-3, low.data()).force_N, 20 * 0.05);
+  // A ratchet of 0 is the set that grows with the largest strain only, to the bit.
+  ExtendedLawParams plain = p;
+  plain.set_ratcheting = false;
+  ExtendedLawParams zero = p;
+  zero.set_ratchet = 0;
+  std::vector<double> za(law.internalSize()), zb(law.internalSize());
+  const ExtendedTensionLaw a(plain), b(zero);
+  a.initInternal(za.data());
+  b.initInternal(zb.data());
+  for (int k = 1; k <= 3000; ++k) {
+    const double e = 0.5 * std::sin(0.01 * k) * std::sin(0.01 * k);
+    a.advance(e, 0, 1e-3, za.data());
+    b.advance(e, 0, 1e-3, zb.data());
+    EXPECT_EQ(a.evaluate(e, 0, 1e-3, za.data()).force_N, b.evaluate(e, 0, 1e-3, zb.data()).force_N);
+  }
+  for (double bad : {-0.01, 1.0, std::nan("")}) {
+    p.set_ratchet = bad;
+    EXPECT_THROW(ExtendedTensionLaw{p}, std::invalid_argument) << bad;
+  }
+}
+
 TEST(ExtendedTensionLaw, RejectsParametersOutOfRange) {
   ExtendedLawParams p = allEffects();
   p.relax_g1 = 1.2;
