@@ -123,4 +123,23 @@ TEST(IdentifyCli, BadLawFilesExitTwoNamingTheKey) {
   }
 }
 
+TEST(IdentifyCli, ARatchetingSetIsReadFromItsLawFileAndOutOfRangeNamed) {
+  colosim::test::TempDir dir;
+  const std::string law =
+      R"({"format": "colosim-tension-law v1", "law": "extended", "effects": ["permanent_set"],
+          "params": {"EA_N": {"value": 6, "unit": "N"}, "EC_Ns": {"value": 0.05, "unit": "N s"},
+                     "set_ratio": {"value": 0.1, "unit": "1"}, "set_yield_strain": {"value": 0.05, "unit": "1"},
+                     "set_ratchet": {"value": 0.04, "unit": "1"}}})";
+  const Result r = run("run --duration 0.01 --tension-law " + dir.write("ratchet.json", law));
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("set_ratchet"), std::string::npos) << r.out;
+  std::string bad = law;
+  bad.replace(bad.find("0.04"), 4, "1.5");
+  const std::string path = dir.write("bad_ratchet.json", bad);
+  const Result b = run("run --duration 0.01 --tension-law " + path);
+  EXPECT_EQ(b.code, 2) << b.out;
+  EXPECT_NE(b.out.find(path), std::string::npos) << b.out;
+  EXPECT_NE(b.out.find("set_ratchet"), std::string::npos) << b.out;
+}
+
 }  // namespace
