@@ -13,22 +13,22 @@ namespace {
 constexpr double kMaxExponent = 30.0;
 
 // Elastic force Fe(x) of eq. Fe in the header and its derivative [N].
-void fung(double ea, bool stiffening, double b, double x, double* f, double* df) {
+void fung(double ea, bool stiffening, double b, double x, double* f, double* df, double max_exp = kMaxExponent) {
   if (!stiffening || x <= 0 || b <= 0) {
     *f = ea * x;
     *df = ea;
     return;
   }
-  const double bx = std::min(b * x, kMaxExponent);
+  const double bx = std::min(b * x, max_exp);
   const double ex = std::exp(bx);
   *f = ea / b * (ex - 1.0) + ea * ex * (x - bx / b);  // second term zero below the cap
   *df = ea * ex;
 }
 
 // Energy of Fe per unit rest length, the integral of Fe from 0 to x [N].
-double fungEnergy(double ea, bool stiffening, double b, double x) {
+double fungEnergy(double ea, bool stiffening, double b, double x, double max_exp = kMaxExponent) {
   if (!stiffening || x <= 0 || b <= 0) return 0.5 * ea * x * x;
-  const double xc = std::min(x, kMaxExponent / b);
+  const double xc = std::min(x, max_exp / b);
   const double ec = std::exp(b * xc);
   double w = ea / b * ((ec - 1.0) / b - xc);
   if (x > xc) {
@@ -83,6 +83,7 @@ bool ExtendedLawParams::set(const std::string& name, double v) {
   else if (name == "set_ratio") set_ratio = v;
   else if (name == "set_yield_strain") set_yield_strain = v, set_yield = true;
   else if (name == "set_ratchet") set_ratchet = v, set_ratcheting = true;
+  else if (name == "fung_cap_strain") fung_cap_strain = v, fung_capped = true;
   else return false;
   return true;
 }
@@ -94,6 +95,8 @@ void ExtendedLawParams::validate() const {
   check(std::isfinite(ea_N) && ea_N > 0, "EA_N must be positive");
   check(std::isfinite(ec_Ns) && ec_Ns >= 0, "EC_Ns must be non-negative");
   if (strain_stiffening) check(std::isfinite(fung_b) && fung_b >= 0 && fung_b <= 50, "fung_b in [0, 50]");
+  if (strain_stiffening && fung_capped)
+    check(std::isfinite(fung_cap_strain) && fung_cap_strain > 0 && fung_cap_strain <= 100, "fung_cap_strain in (0, 100]");
   if (stress_relaxation) {
     check(prony_terms == 1 || prony_terms == 2, "prony_terms is 1 or 2");
     check(std::isfinite(relax_g1) && relax_g1 >= 0 && relax_g1 < 1, "relax_g1 in [0, 1)");
@@ -128,6 +131,7 @@ std::string ExtendedTensionLaw::name() const { return any_ ? "extended" : "voigt
 std::vector<LawParameter> ExtendedTensionLaw::parameters() const {
   std::vector<LawParameter> out = {{"EA_N", p_.ea_N, "N"}, {"EC_Ns", p_.ec_Ns, "N s"}};
   if (p_.strain_stiffening) out.push_back({"fung_b", p_.fung_b, "1"});
+  if (p_.strain_stiffening && p_.fung_capped) out.push_back({"fung_cap_strain", p_.fung_cap_strain, "1"});
   if (p_.stress_relaxation) {
     out.push_back({"relax_g1", p_.relax_g1, "1"});
     out.push_back({"relax_tau1_s", p_.relax_tau1_s, "s"});
@@ -155,6 +159,10 @@ void ExtendedTensionLaw::initInternal(double* z) const {
   z[kDFsPrev] = p_.ea_N;  // dFs/de of the virgin sample at zero strain
 }
 
+double ExtendedTensionLaw::maxExp() const {
+  return p_.fung_capped ? std::min(kMaxExponent, p_.fung_b * p_.fung_cap_strain) : kMaxExponent;
+}
+
 double ExtendedTensionLaw::setStrain(double e_max, double a_y) const {
   const double ep = p_.set_yield ? p_.set_ratio * std::max(0.0, e_max - p_.set_yield_strain) : p_.set_ratio * e_max;
   return p_.set_ratcheting ? ep + p_.set_ratchet * a_y : ep;
@@ -167,7 +175,7 @@ void ExtendedTensionLaw::elastic(double strain, const double* z, double* f, doub
     if (p_.permanent_set) x -= setStrain(z[kEMax], z[kAccYield]);
     scale = z[kScale];
   }
-  fung(p_.ea_N, p_.strain_stiffening, p_.fung_b, x, f, df);
+  fung(p_.ea_N, p_.strain_stiffening, p_.fung_b, x, f, df, maxExp());
   *f *= scale;
   *df *= scale;
 }
@@ -239,7 +247,7 @@ double ExtendedTensionLaw::storedEnergy(double strain, const double* z) const {
     if (p_.permanent_set) x -= setStrain(z[kEMax], z[kAccYield]);
     scale = z[kScale];
   }
-  return scale * fungEnergy(p_.ea_N, p_.strain_stiffening, p_.fung_b, x);
+  return scale * fungEnergy(p_.ea_N, p_.strain_stiffening, p_.fung_b, x, maxExp());
 }
 
 }  // namespace colosim

@@ -11,7 +11,10 @@
 //   Fs(e) = (1 - d(a)) Fe(e - e_p),                                            [N]
 //   Fe(x) = EA x                         (linear, or x <= 0)
 //   Fe(x) = EA / b (exp(b x) - 1)        (strain_stiffening, x > 0; Fung-type:
-//                                         dFe/dx = EA exp(b x), EA the tangent at x = 0)
+//                                         dFe/dx = EA exp(b x), EA the tangent at x = 0;
+//                                         optionally straight beyond x_c, fung_cap_strain:
+//                                         dFe/dx = EA exp(b x_c) there, a toe that stiffens
+//                                         and then a linear region)
 //
 // and the effects
 //   strain_stiffening  b [-]: exponential stiffening (Fung), see Fe.
@@ -49,6 +52,7 @@
 // colon step), evaluate() returns g_inf Fs(e) + sum h_i + EC de/dt.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -66,6 +70,8 @@ struct ExtendedLawParams {
 
   bool strain_stiffening = false;
   double fung_b = 0.0;     ///< b: exponential stiffening rate [-]
+  bool fung_capped = false;   ///< the curve turns straight at fung_cap_strain (a parameter)
+  double fung_cap_strain = 10.0;  ///< x_c: strain beyond which Fe continues along its tangent [-]
 
   bool stress_relaxation = false;
   int prony_terms = 1;     ///< 1 (standard linear solid) or 2
@@ -125,6 +131,8 @@ class ExtendedTensionLaw final : public TensionLaw {
   // accumulated above the yield strain.
   double setStrain(double e_max, double a_y) const;
 
+  // The largest exponent b x of the Fung curve, beyond which it continues along its tangent.
+  double maxExp() const;
   ExtendedLawParams p_;
   bool any_ = false;
   double g_inf_ = 1.0;

@@ -64,6 +64,7 @@ ExtendedLawParams readTensionLawObject(JsonObject& top) {
   if (params.has("relax_g2") || params.has("relax_tau2_s")) p.prony_terms = 2;
   if (params.has("set_yield_strain")) p.set_yield = true;
   if (params.has("set_ratchet")) p.set_ratcheting = true;
+  if (params.has("fung_cap_strain")) p.fung_capped = true;
   // The parameters a law with these effects has (the defaults are valid placeholders).
   for (const LawParameter& q : ExtendedTensionLaw(p).parameters()) {
     JsonObject v = params.object(q.name);

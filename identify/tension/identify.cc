@@ -41,14 +41,19 @@ struct Data {
 double ratchetScale(const Data& d) { return std::min(0.5, 0.1 * d.max_strain / std::max(1e-3, d.total_loading_strain)); }
 
 // The parameters of a law with `effects`; relaxation with two Maxwell branches when
-// two_relax. The set always has its yield strain (0 is the set without a threshold), and
+// two_relax. Stiffening always has its straightening strain (starting beyond reach, the
+// plain Fung curve). The set always has its yield strain (0 is the set without a threshold), and
 // with `ratchet` its ratchet (starting at 0, the set that grows with the largest strain only).
 std::vector<ParamDef> layout(const Data& d, const std::vector<std::string>& effects, bool two_relax = false,
                              bool ratchet = false) {
   auto has = [&](const char* e) { return std::find(effects.begin(), effects.end(), e) != effects.end(); };
   std::vector<ParamDef> p = {{"EA_N", "N", d.ea_scale_N, 1e-3 * d.ea_scale_N, 1e3 * d.ea_scale_N},
                              {"EC_Ns", "N s", 0.1, 0.0, 1e3}};
-  if (has("strain_stiffening")) p.push_back({"fung_b", "1", 1.0, 0.0, 20.0});
+  if (has("strain_stiffening")) {
+    p.push_back({"fung_b", "1", 1.0, 0.0, 20.0});
+    // Where the curve turns straight; it starts beyond reach (10: the plain Fung curve).
+    p.push_back({"fung_cap_strain", "1", d.max_strain, 0.02 * d.max_strain, 10.0, 10.0});
+  }
   if (has("stress_relaxation")) {
     p.push_back({"relax_g1", "1", 0.3, 0.0, 0.95});
     p.push_back({"relax_tau1_s", "s", 10.0, 0.05, 1e4});
@@ -428,6 +433,9 @@ std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& cur
   if (effect == "strain_stiffening") {
     s.push_back(thetaFrom(defs, current, {{"EA_N", 0.5 * ea}, {"fung_b", 1.0}}));
     s.push_back(thetaFrom(defs, current, {{"EA_N", 0.2 * ea}, {"fung_b", 3.0}}));
+    // A toe that stiffens fast and turns straight within the test.
+    s.push_back(thetaFrom(defs, current, {{"EA_N", 0.5 * ea}, {"fung_b", 4.0 / d.max_strain},
+                                          {"fung_cap_strain", 0.6 * d.max_strain}}));
   } else if (effect == "stress_relaxation") {
     s.push_back(thetaFrom(defs, current, {{"EA_N", 1.3 * ea}, {"relax_g1", 0.3}, {"relax_tau1_s", 3.0}}));
     s.push_back(thetaFrom(defs, current, {{"EA_N", 1.3 * ea}, {"relax_g1", 0.3}, {"relax_tau1_s", 30.0}}));

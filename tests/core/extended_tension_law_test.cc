@@ -222,6 +222,38 @@ TEST(ExtendedTensionLaw, ARatchetingSetGrowsWithEveryCyclePastTheYieldStrain) {
   }
 }
 
+TEST(ExtendedTensionLaw, AStiffeningCurveWithAStraighteningStrainIsStraightBeyondIt) {
+  // dFe/dx = EA exp(b x) up to x_c, EA exp(b x_c) beyond: a toe, then a linear region.
+  ExtendedLawParams p;
+  p.enable("strain_stiffening");
+  p.ea_N = 4, p.ec_Ns = 0, p.fung_b = 5;
+  ASSERT_TRUE(p.set("fung_cap_strain", 0.2));
+  const ExtendedTensionLaw law(p);
+  ASSERT_EQ(law.parameters().back().name, "fung_cap_strain");
+  std::vector<double> z(law.internalSize());
+  law.initInternal(z.data());
+  const double k_c = 4 * std::exp(1.0);  // the tangent at and beyond x_c [N]
+  const double f_c = 4 / 5.0 * (std::exp(1.0) - 1);  // Fe(x_c) [N]
+  for (double x : {0.25, 0.4, 0.8}) {
+    const TensionResponse r = law.evaluate(x, 0, 1e-3, z.data());
+    EXPECT_NEAR(r.dforce_dstrain_N, k_c, 1e-9 * k_c) << x;
+    EXPECT_NEAR(r.force_N, f_c + k_c * (x - 0.2), 1e-9) << x;
+  }
+  // Below x_c it is the Fung curve, and the force is the derivative of the energy.
+  ExtendedLawParams plain = p;
+  plain.fung_capped = false;
+  EXPECT_EQ(law.evaluate(0.15, 0, 1e-3, z.data()).force_N, ExtendedTensionLaw(plain).evaluate(0.15, 0, 1e-3, z.data()).force_N);
+  for (double x : {0.1, 0.2, 0.3, 0.6}) {
+    const double h = 1e-6;
+    const double dw = (law.storedEnergy(x + h, z.data()) - law.storedEnergy(x - h, z.data())) / (2 * h);
+    EXPECT_NEAR(dw, law.evaluate(x, 0, 1e-3, z.data()).force_N, 1e-6) << x;
+  }
+  for (double bad : {0.0, -0.1, std::nan("")}) {
+    p.fung_cap_strain = bad;
+    EXPECT_THROW(ExtendedTensionLaw{p}, std::invalid_argument) << bad;
+  }
+}
+
 TEST(ExtendedTensionLaw, RejectsParametersOutOfRange) {
   ExtendedLawParams p = allEffects();
   p.relax_g1 = 1.2;
