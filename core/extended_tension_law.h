@@ -52,7 +52,6 @@
 // colon step), evaluate() returns g_inf Fs(e) + sum h_i + EC de/dt.
 #pragma once
 
-#include <cmath>
 #include <string>
 #include <vector>
 
@@ -97,7 +96,7 @@ struct ExtendedLawParams {
   void enable(const std::string& effect);
   /// Sets a parameter by its name in parameters() (relax_g2 / relax_tau2_s select the
   /// two-term Prony series, set_yield_strain the set with a yield strain, set_ratchet the
-  /// ratcheting set); false for an
+  /// ratcheting set, fung_cap_strain the stiffening curve that turns straight); false for an
   /// unknown name.
   bool set(const std::string& name, double value);
   /// Throws std::invalid_argument naming the first parameter out of its range.

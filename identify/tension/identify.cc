@@ -36,6 +36,13 @@ struct Data {
   double max_strain = 1;        // largest strain of the test [-]
 };
 
+// The loading strain accumulated above e_y along a strain history [-]: the sum of the
+// strain increases beyond max(0, previous strain, e_y), added to `sum`.
+double loadingStrainAbove(const std::vector<double>& strain, double e_y, double sum = 0) {
+  for (size_t k = 1; k < strain.size(); ++k) sum += std::max(0.0, strain[k] - std::max({0.0, strain[k - 1], e_y}));
+  return sum;
+}
+
 // A ratchet that leaves a set of a tenth of the largest strain after the protocol's loading
 // [-] (the loading strain above zero stands in for the one above the yield strain).
 double ratchetScale(const Data& d) { return std::min(0.5, 0.1 * d.max_strain / std::max(1e-3, d.total_loading_strain)); }
@@ -606,10 +613,8 @@ void secondBranch(const Data& d, const std::vector<int>& fold, const IdentifyOpt
 
 // The set a fitted law leaves after the test [-]: r max(0, e_max - e_y) + c a_y.
 double finalSet(const Data& d, const ExtendedLawParams& l) {
-  double a_y = 0;
-  for (size_t k = 1; k < d.strain.size(); ++k)
-    a_y += std::max(0.0, d.strain[k] - std::max({0.0, d.strain[k - 1], l.set_yield_strain}));
-  return l.set_ratio * std::max(0.0, d.max_strain - l.set_yield_strain) + l.set_ratchet * a_y;
+  return l.set_ratio * std::max(0.0, d.max_strain - l.set_yield_strain) +
+         l.set_ratchet * loadingStrainAbove(d.strain, l.set_yield_strain);
 }
 
 // A ratcheting set is kept only when the set it leaves after the test is at least this
@@ -686,9 +691,7 @@ void prepare(const TensionTest& t, Data* d) {
   d->test = &t;
   tensionStrainHistory(t, &d->strain, &d->rate);
   d->max_strain = std::max(1e-3, *std::max_element(d->strain.begin(), d->strain.end()));
-  d->total_loading_strain = 1e-3;
-  for (size_t k = 1; k < t.rows(); ++k)
-    if (d->strain[k] > 0) d->total_loading_strain += std::max(0.0, d->strain[k] - std::max(0.0, d->strain[k - 1]));
+  d->total_loading_strain = loadingStrainAbove(d->strain, 0.0, 1e-3);
 }
 
 // Baseline start: linear least squares F = off + EA e + EC edot on the taut rows.
