@@ -293,6 +293,21 @@ bool WorldSimulation::scene(SceneView& out) const {
   return true;
 }
 
+double WorldSimulation::coronalLoopTurns(const Vec3& tip) {
+  const WorldState& s = state_;
+  const int slices = model_.scope.params.slices_per_segment;
+  std::vector<Vec3>& line = loop_line_;
+  line.clear();
+  line.push_back(model_.scope.p_W_anus);
+  for (int k = s.scope.inside - 1; k >= 0; --k) {
+    const int j = s.slice_track[k * slices].colon_segment;
+    if (j >= loop_last_) break;  // the scope has left the descending colon
+    line.push_back(s.scope.p_W[k]);
+  }
+  if (line.size() == static_cast<size_t>(s.scope.inside) + 1) line.push_back(tip);
+  return crossingLoopTurns(line, Vec3(0, -1, 0));
+}
+
 void WorldSimulation::measure() {
   const ColonModel& colon = model_.colon;
   const ScopeModel& scope = model_.scope;
@@ -304,6 +319,11 @@ void WorldSimulation::measure() {
   t.input = s.scope.input;
   t.handle_force_N = s.scope.handle.force_N;
   t.handle_torque_Nm = s.scope.handle.torque_Nm;
+  if (handle_and_loop_only_) {
+    t.tip_position_m = tipPosition(scope, s.scope);
+    if (s.scope.inside > 0) t.loop_turns = coronalLoopTurns(t.tip_position_m);
+    return;
+  }
   // Contact topology: is every slice tracked in the lumen it is really in?
   const LumenCheck lumen = checkLumen(model_, s, lumen_arc_);
   t.track_jump_m = lumen.track_jump_m;
@@ -349,17 +369,8 @@ void WorldSimulation::measure() {
   // An earlier measure, net turning against the rest sigmoid's, called a straightened
   // sigmoid a half loop; a crossing is what an alpha loop looks like under fluoroscopy.
   {
-    const int slices = scope.params.slices_per_segment;
-    std::vector<Vec3>& line = loop_line_;
-    line.clear();
-    line.push_back(scope.p_W_anus);
-    for (int k = s.scope.inside - 1; k >= 0; --k) {
-      const int j = s.slice_track[k * slices].colon_segment;
-      if (j >= loop_last_) break;  // the scope has left the descending colon
-      line.push_back(s.scope.p_W[k]);
-    }
-    if (line.size() == static_cast<size_t>(s.scope.inside) + 1) line.push_back(tip);
-    t.loop_turns = crossingLoopTurns(line, Vec3(0, -1, 0));
+    t.loop_turns = coronalLoopTurns(tip);
+    const std::vector<Vec3>& line = loop_line_;
     // The same line in 3-D, closed far away: out of the anus against the entry direction,
     // and up (cranially, along the descending colon) from its far end.
     // Measured at the first step of each interval of kWritheEverySteps steps: the multiples

@@ -70,14 +70,25 @@ class WorldSimulation : public Simulation {
   /// Wall patches used for "% mucosa visualised": kPatchSectors around each colon segment.
   static constexpr int kPatchSectors = 8;
 
+  /// With `on`, the telemetry after each step keeps only what a replay of a recording
+  /// compares: time, input, handle force and torque, tip position and the coronal loop
+  /// (loop_turns). The scores' measures (lumen check, wall force, stretch, region lengths,
+  /// writhe, the view) keep their defaults and cost nothing. The state is the same bit for
+  /// bit either way. Off by default.
+  void measureHandleAndLoopOnly(bool on) { handle_and_loop_only_ = on; }
+
  private:
   void measure();
+  // The coronal loop's turning number (crossingLoopTurns) of the scope from the anus to the
+  // end of the descending colon; leaves that line in loop_line_.
+  double coronalLoopTurns(const Vec3& tip);
 
   WorldModel model_;
   WorldState state_;
   std::unique_ptr<ContactQuery> query_;
   double dt_s_ = 1e-3;
   Telemetry telemetry_;
+  bool handle_and_loop_only_ = false;
   int sigmoid_first_ = -1, sigmoid_last_ = -1;  ///< control points of the sigmoid (rest arclength order)
   void updateLimitEvents();
   std::vector<SimulationEvent> events_;  ///< events of the last step

@@ -130,6 +130,7 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
   if (setup.relax_s >= 0) start.relax_s = setup.relax_s;
   start.first_input = rec.input.front();
   WorldSimulation sim(std::move(model), start, "fcl");
+  sim.measureHandleAndLoopOnly(true);  // the replay compares only these
   const WorldState& st = sim.state();
   Telemetry tel = sim.telemetry();
 
