@@ -34,7 +34,6 @@ TEST(ViewTelemetry, RedOutReadsTheAnatomysWallNotTheContactFolds) {
   }
 }
 
-
 // A replay of a recording measures only what it compares (measureHandleAndLoopOnly): the
 // state stays the same bit for bit, and so do the handle force and torque, the tip and the
 // coronal loop, step for step, through the shipped untwist's loop (2 s).
