@@ -6,6 +6,7 @@
 #include <GL/osmesa.h>
 // clang-format on
 
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -38,6 +39,7 @@ OffscreenContext::OffscreenContext(int width, int height) {
                          OSMESA_CONTEXT_MINOR_VERSION,
                          3,
                          0};
+  keepDriverMemoryBetweenFrames();
   ctx_ = OSMesaCreateContextAttribs(attribs, nullptr);
   if (!ctx_) throw std::runtime_error("render: OSMesa could not create a GL 3.3 core context");
   try {
@@ -66,6 +68,23 @@ void OffscreenContext::makeCurrent() {
   if (!gladLoadGL(osmesaProc)) throw std::runtime_error("render: glad could not load GL through OSMesa");
 }
 
-Image OffscreenContext::read() const { return readFramebuffer(Viewport{0, 0, width_, height_}); }
+Image OffscreenContext::read() const {
+  Image img;
+  read(img);
+  return img;
+}
+
+void OffscreenContext::read(Image& out) const {
+  // OSMesa renders into our buffer: after glFinish it holds the image (OSMesa's contract),
+  // bottom row first. Copying its rows in reverse order is the whole read: no glReadPixels
+  // (a second copy with a format conversion) and no flip in place.
+  glFinish();
+  out.width = width_;
+  out.height = height_;
+  const size_t stride = static_cast<size_t>(width_) * 4;
+  out.rgba.resize(stride * height_);
+  for (int y = 0; y < height_; ++y)
+    std::memcpy(out.at(0, y), buffer_.data() + stride * static_cast<size_t>(height_ - 1 - y), stride);
+}
 
 }  // namespace colosim

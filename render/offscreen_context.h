@@ -26,8 +26,12 @@ class OffscreenContext {
   void resize(int width, int height);
   int width() const { return width_; }
   int height() const { return height_; }
-  /// The whole image, top-down (glFinish + glReadPixels).
+  /// The whole image, top-down: glFinish, then the rows of OSMesa's buffer (which hold
+  /// what glReadPixels would return; tested).
   Image read() const;
+  /// The same into `out`, reusing its storage: a frame loop allocates nothing after its
+  /// first frame.
+  void read(Image& out) const;
 
  private:
   void* ctx_ = nullptr;  // OSMesaContext

@@ -94,6 +94,17 @@ class Renderer {
 /// Reads a rectangle of the current framebuffer as a top-down RGBA image (glFinish, then
 /// glReadPixels, whose rows come bottom-up, flipped).
 Image readFramebuffer(const Viewport& viewport);
+/// The same into `out`, reusing its storage: a loop that reads every frame into one image
+/// allocates (and the system zeroes and maps) nothing after the first frame.
+void readFramebuffer(const Viewport& viewport, Image& out);
+
+/// Keeps the heap's freed memory in the process between frames (glibc's trim threshold to
+/// 128 MB; once per process, called by both GL back ends when they make a context).
+/// llvmpipe, the GL here, allocates and frees megabytes per draw; glibc gave the heap's
+/// free top back to the system after each, and the next frame had the kernel map and zero
+/// it again page by page: 60 % of a global-view frame (`colosim bench render`). The cost is
+/// at most 128 MB kept mapped beyond what the process has needed at once.
+void keepDriverMemoryBetweenFrames();
 
 /// Drains glGetError: the error codes raised since the last call (empty when none).
 std::vector<unsigned> drainGlErrors();

@@ -20,6 +20,7 @@ void onGlfwError(int, const char* text) { g_glfw_error = text ? text : "unknown"
 }  // namespace
 
 Window::Window(int width, int height, const std::string& title, bool visible) {
+  keepDriverMemoryBetweenFrames();
   glfwSetErrorCallback(onGlfwError);
   if (g_glfw_users == 0 && !glfwInit())
     throw std::runtime_error("render: GLFW could not start (no display?): " + g_glfw_error);

@@ -24,7 +24,7 @@ bool SceneImager::render(const Simulation& sim, Image& out) {
   }
   context_->makeCurrent();
   drawViews(*renderer_, scene_, view_, width_px_, height_px_, *global_camera_);
-  out = context_->read();
+  context_->read(out);
   return true;
 }
 

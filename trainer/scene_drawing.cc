@@ -52,6 +52,7 @@ struct FrameState {
   std::unique_ptr<Renderer> renderer;
   OrbitCamera global_camera;
   SceneView scene;
+  Image image;  // the frame read back, its storage kept between frames
 };
 
 }  // namespace
@@ -70,7 +71,8 @@ FrameWriter makeFrameWriter(const std::string& dir, const std::string& view, int
     drawViews(*st->renderer, st->scene, view, width_px, height_px, st->global_camera);
     char name[64];
     std::snprintf(name, sizeof name, "/frame_%06ld.png", steps_done);
-    writePng(dir + name, st->context->read());
+    st->context->read(st->image);
+    writePng(dir + name, st->image);
   };
 }
 

@@ -438,5 +438,38 @@ TEST_F(RenderTest, ReducedDetailLooksLikeTheFullDraw) {
   EXPECT_EQ(poses, 12);
 }
 
+
+// The context's read copies OSMesa's own buffer instead of calling glReadPixels: the two
+// give the same bytes, for the onboard view (per-vertex distortion and, next to the wall,
+// the exact pass through a framebuffer object), the global view and a resized context,
+// and an image read into again takes each new size.
+TEST_F(RenderTest, ReadingTheContextsBufferGivesWhatGlReadPixelsGives) {
+  const ColonModel colon = test::straightColon(0.36, 0.02);
+  const ScopeShape no_scope;
+  Image img;
+  int frames = 0;
+  for (const auto& [w, h] : {std::pair{320, 240}, std::pair{200, 150}, std::pair{401, 203}}) {
+    ctx_->resize(w, h);
+    for (double off_axis_m : {0.0, 0.0195}) {  // on the axis; 0.5 mm from the wall: the exact pass
+      const CameraPose cam = lookAlong(Vec3(off_axis_m, 0, 0.06), Vec3(0.3, 0.1, 1).normalized(), Vec3::UnitY());
+      renderer_->drawOnboard(colon, colon.q_rest, no_scope, cam, Viewport{0, 0, w, h});
+      ctx_->read(img);
+      const Image reference = readFramebuffer(Viewport{0, 0, w, h});
+      ASSERT_EQ(img.width, w);
+      ASSERT_EQ(img.height, h);
+      EXPECT_TRUE(img.rgba == reference.rgba) << w << " x " << h << ", " << off_axis_m << " m off axis";
+      EXPECT_GT(meanImage(img), 0.01);  // something was drawn
+      ++frames;
+    }
+    renderer_->drawGlobal(colon, colon.q_rest, no_scope,
+                          frameBox(Vec3(-0.02, -0.02, 0), Vec3(0.02, 0.02, 0.36), static_cast<double>(w) / h), w, h);
+    ctx_->read(img);
+    EXPECT_TRUE(img.rgba == readFramebuffer(Viewport{0, 0, w, h}).rgba) << w << " x " << h << ", global";
+    EXPECT_TRUE(img.rgba == ctx_->read().rgba);
+    ++frames;
+  }
+  EXPECT_EQ(frames, 9);
+}
+
 }  // namespace
 }  // namespace colosim
