@@ -49,10 +49,19 @@ BenchOutput benchUntwist() {
   const std::string session = (std::filesystem::temp_directory_path() /
                                ("colosim-bench-untwist-" + std::to_string(::getpid()) + ".jsonl")).string();
   // 1. Simulation and scoring only.
-  BlockTimer plain, record, replaying;
+  BlockTimer plain, record, replaying, two_lanes;
+  uint64_t hash_one = 0, hash_two = 0;
   {
     WorldSimulation sim(sc);
     runScenario(sc, sim, nullptr, plain.hooks());
+    hash_one = sim.stateHash();
+  }
+  // 1b. The same on two lanes (WorldSimulation::useTwoLanes): the same final state.
+  {
+    WorldSimulation sim(sc);
+    sim.useTwoLanes(true);
+    runScenario(sc, sim, nullptr, two_lanes.hooks());
+    hash_two = sim.stateHash();
   }
   // 2. The same, recording the session.
   {
@@ -67,7 +76,7 @@ BenchOutput benchUntwist() {
   const ReplayResult r = replay(plan, sim, replaying.hooks());
   std::filesystem::remove(session);
   const double rtf = plain.realtimeFactor(sc.dt_s), rtf_record = record.realtimeFactor(sc.dt_s),
-               rtf_replay = replaying.realtimeFactor(sc.dt_s);
+               rtf_replay = replaying.realtimeFactor(sc.dt_s), rtf_lanes = two_lanes.realtimeFactor(sc.dt_s);
 
   BenchOutput out;
   out.json = {{"benchmark", "untwist"},
@@ -77,18 +86,21 @@ BenchOutput benchUntwist() {
               {"realtime_factor", rtf},
               {"realtime_factor_recording", rtf_record},
               {"realtime_factor_replay", rtf_replay},
+              {"realtime_factor_two_lanes", rtf_lanes},
+              {"two_lanes_same_state", hash_one == hash_two},
               {"recording_cost_ratio", rtf / rtf_record},
               {"session_bytes", session_bytes},
               {"replay_hash_ok", r.hashOk()}};
-  char text[512];
+  char text[768];
   std::snprintf(text, sizeof text,
                 "sigmoid_untwist, %.0f s simulated at dt = %g s, colon + scope + contacts\n"
                 "(median over blocks of 1000 steps)\n"
                 "  real-time factor            %8.2f (simulation and scoring)\n"
                 "  real-time factor recording  %8.2f (session file %.2f MB; cost ratio %.3f)\n"
-                "  real-time factor replaying  %8.2f (hashes %s)\n",
+                "  real-time factor replaying  %8.2f (hashes %s)\n"
+                "  real-time factor, two lanes %8.2f (simulation and scoring; state %s)\n",
                 simulated_s, sc.dt_s, rtf, rtf_record, session_bytes / 1e6, rtf / rtf_record, rtf_replay,
-                r.hashOk() ? "reproduced" : "DIFFER");
+                r.hashOk() ? "reproduced" : "DIFFER", rtf_lanes, hash_one == hash_two ? "identical" : "DIFFERENT");
   out.text = text;
   return out;
 }

@@ -6,6 +6,7 @@
 #include "core/active_scope.h"
 #include "core/rotation.h"
 #include "core/scope_grip.h"
+#include "core/step_lanes.h"
 
 namespace colosim {
 
@@ -332,10 +333,12 @@ void solveVelocityChange(ScopeState& s, int simulated, double dt) {
 // a to gap / dt is applied to the whole chain: du -= P A^-1 J^T, with J = [n^T, (r x n)^T]
 // on the tip segment and A the step's matrix (one more solve with its factors). The
 // chain, its joints and the handle feel it; the caller passes -P to the wall.
-void guardLens(const ScopeModel& m, ScopeState& s, int simulated, double dt) {
+void guardLens(const ScopeModel& m, ScopeState& s, int simulated, double dt,
+               const std::atomic<bool>* wall_speed_ready) {
   s.lens_impulse_Ns = 0;
   const ScopeState::LensWall& wall = s.lens_wall;
   if (!wall.active || !s.solver_ok || simulated == 0) return;
+  if (wall_speed_ready) waitUntilSet(*wall_speed_ready);
   double* du = s.rhs.data();
   const Vec3& n = wall.n_W;
   const Vec3 r = s.R_WS[0] * m.tip_face_points_S[0];
@@ -402,7 +405,8 @@ void setHandleReaction(const ScopeModel& m, ScopeState& s, const BaseJoint& base
 
 }  // namespace
 
-void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, double dt, int inside_set) {
+void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, double dt, int inside_set,
+                  const std::atomic<bool>* wall_speed_ready) {
   // Inputs: the outside part moves with the handle; segments that reach the anus are added
   // to (pushed in) or removed from (withdrawn) the simulated chain.
   const int inside = insideAfter(m, in, inside_set);
@@ -428,7 +432,7 @@ void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, dou
   // Solve for the velocity change, integrate (with the speed limits), and read the
   // handle's reaction off the last joint.
   solveVelocityChange(s, simulated, dt);
-  guardLens(m, s, simulated, dt);
+  guardLens(m, s, simulated, dt, wall_speed_ready);
   integrateSegments(m, s, simulated, dt);
   setHandleReaction(m, s, base, simulated, dt);
   // The sphincter's force over the step, which the body takes: handle.force_W
@@ -437,14 +441,16 @@ void advanceScope(const ScopeModel& m, ScopeState& s, const HandleInput& in, dou
   s.handle.force_W -= s.sphincter_force_W;
 }
 
-void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, double dt) {
+void stepScope(const ScopeModel& m, ScopeState& s, const HandleInput& raw_in, double dt,
+               const std::atomic<bool>* wall_speed_ready) {
   // Inputs: the command clamped into the scope's ranges, and where the grip lets the hand
   // take the outside part this step.
   const HandleInput cmd = clampHandleInput(m, raw_in);
   const HandleInput target = gripTarget(m, s, cmd, dt);
   // The step, from a saved start.
   saveStart(s);
-  advanceScope(m, s, target, dt);
+  advanceScope(m, s, target, dt, -1, wall_speed_ready);
+  if (wall_speed_ready) waitUntilSet(*wall_speed_ready);  // the grip's trials read it too
   // Limit: the grip slips when the step asked for more than it holds (the step is taken
   // again from the start); the slip is kept for catching up.
   holdWithinGrip(m, s, target, dt);

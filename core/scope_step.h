@@ -14,6 +14,8 @@
 // although the fastest bending mode of 1 cm segments is ~1.4e4 rad/s (docs/numerics.md).
 #pragma once
 
+#include <atomic>
+
 #include "core/scope_state.h"
 
 namespace colosim {
@@ -33,14 +35,19 @@ namespace colosim {
 /// grip_catch_up_m_per_s, _rad_per_s; state.grip_limited says so, asked_handle_force_N
 /// and asked_handle_torque_Nm what the command asked. state.handle is the backward-Euler
 /// force of the last joint on the outside part over the step.
-void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s);
+/// `wall_speed_ready`: when the lens wall's speed over the step (state.lens_wall.
+/// wall_speed_m_per_s) is being computed on another thread during this step (the world
+/// step's two lanes, core/world.cc), a flag that thread sets once it is written; the lens
+/// guard waits for it before reading the speed. nullptr: the speed is already set.
+void stepScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s,
+               const std::atomic<bool>* wall_speed_ready = nullptr);
 
 /// The step with the outside part taken to `in` (already clamped and gripped): everything
 /// of stepScope() but the grip. `inside_set` >= 0 sets the number of segments inside
 /// (and so of the simulated ones) instead of the insertion (the grip's trials keep those of the hand's move, so that the
 /// reaction stays affine in the move). Allocates nothing.
 void advanceScope(const ScopeModel& model, ScopeState& state, const HandleInput& in, double dt_s,
-                  int inside_set = -1);
+                  int inside_set = -1, const std::atomic<bool>* wall_speed_ready = nullptr);
 
 /// Kinetic energy and elastic energy of the joints [J] (for tests).
 double scopeKineticEnergy(const ScopeModel& model, const ScopeState& state);

@@ -8,7 +8,9 @@
 // since the two touch disjoint data; run() returns only when both are done. Whoever is
 // free first takes the worker's task: if the worker has not started it by the time the
 // caller has finished its own (the other core busy elsewhere), the caller runs it too, so
-// a busy machine costs at worst the sequential time plus one atomic exchange.
+// a busy machine costs at worst the sequential time plus one atomic exchange. Each side
+// polls for a short while (200 us) before it sleeps, so back-to-back steps hand their
+// halves over without waking a thread.
 #pragma once
 
 #include <atomic>
@@ -18,6 +20,10 @@
 #include <type_traits>
 
 namespace colosim {
+
+/// Waits until another thread sets `flag` (polling, then yielding the core). Only for
+/// flags that a running task sets soon: the world step's lanes (core/world.cc).
+void waitUntilSet(const std::atomic<bool>& flag);
 
 class StepLanes {
  public:
@@ -51,14 +57,16 @@ class StepLanes {
   void runErased(Task a, Task b);
   void loop();
 
-  std::mutex mutex_;
+  std::mutex mutex_;  // only for sleeping and waking
   std::condition_variable wake_, done_cv_;
-  Task task_;                                    // the posted task (under mutex_)
-  long posted_ = 0;                              // generation of the posted task (under mutex_)
+  // The posted task, published before its generation.
+  std::atomic<void (*)(void*)> task_invoke_{nullptr};
+  std::atomic<void*> task_callable_{nullptr};
+  std::atomic<long> posted_{0};  // generation of the last posted task
   // generation * 4 + phase (0 idle, 1 posted, 2 claimed, 3 done): a claim names the
   // generation it claims, so a worker waking late never runs a task already taken back.
   std::atomic<long> state_{0};
-  bool stop_ = false;
+  std::atomic<bool> stop_{false}, worker_sleeping_{false}, caller_sleeping_{false};
   std::atomic<long> worker_ran_{0}, caller_took_{0};
   std::thread worker_;
 };

@@ -129,6 +129,18 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
   const bool lens_near = lensMayReachWall(m, s, dt);
   if (lanes && !lens_near) {
     lanes->run([&] { stepColon(m.colon, s.colon, dt); }, [&] { stepScope(m.scope, s.scope, in, dt); });
+  } else if (lanes) {
+    // The scope's step needs the wall's speed from the colon's step only at its lens guard,
+    // after its forces and factorisation: it waits there for the flag. The colon's step runs
+    // on the caller's lane, so the flag is set even when the worker is late (the caller
+    // then takes the scope's step back after setting it).
+    std::atomic<bool> wall_speed_ready{false};
+    lanes->run([&] { stepScope(m.scope, s.scope, in, dt, &wall_speed_ready); },
+               [&] {
+                 stepColon(m.colon, s.colon, dt);
+                 setLensWallSpeedFromColonStep(m, s);
+                 wall_speed_ready.store(true, std::memory_order_release);
+               });
   } else {
     stepColon(m.colon, s.colon, dt);
     if (lens_near) setLensWallSpeedFromColonStep(m, s);

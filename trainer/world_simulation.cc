@@ -196,6 +196,13 @@ void WorldSimulation::setSupport(double t_s) {
   }
 }
 
+void WorldSimulation::useTwoLanes(bool on) {
+  if (!on)
+    lanes_.reset();
+  else if (!lanes_)
+    lanes_ = std::make_unique<StepLanes>();
+}
+
 void WorldSimulation::step(const HandleInput& in) {
   // The pressure in force over this step: the ramp at the step's start time.
   if (!pressure_.empty()) setSupport(state_.colon.time_s);
@@ -204,7 +211,7 @@ void WorldSimulation::step(const HandleInput& in) {
   while (next_turn_ < turns_.size() && turns_[next_turn_].at_s <= state_.colon.time_s + 0.5 * dt_s_)
     startTurn(turns_[next_turn_++].position);
   turnGravity(state_.colon.time_s);
-  stepWorld(model_, state_, in, *query_, dt_s_);
+  stepWorld(model_, state_, in, *query_, dt_s_, lanes_.get());
   measure();
   telemetry_.solver_limited = limitedCount(state_);
   updateLimitEvents();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "collision/contact_query.h"
+#include "core/step_lanes.h"
 #include "core/world.h"
 #include "trainer/simulation.h"
 #include "trainer/start_state.h"
@@ -77,6 +78,11 @@ class WorldSimulation : public Simulation {
   /// bit either way. Off by default.
   void measureHandleAndLoopOnly(bool on) { handle_and_loop_only_ = on; }
 
+  /// With `on`, each step runs its independent halves on two lanes (core/step_lanes.h: a
+  /// worker thread beside the caller's), for a run that has a second core to itself. The
+  /// states are the same bit for bit either way. Off by default.
+  void useTwoLanes(bool on);
+
  private:
   void measure();
   // The coronal loop's turning number (crossingLoopTurns) of the scope from the anus to the
@@ -86,6 +92,7 @@ class WorldSimulation : public Simulation {
   WorldModel model_;
   WorldState state_;
   std::unique_ptr<ContactQuery> query_;
+  std::unique_ptr<StepLanes> lanes_;  // null: one lane
   double dt_s_ = 1e-3;
   Telemetry telemetry_;
   bool handle_and_loop_only_ = false;

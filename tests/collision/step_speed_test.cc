@@ -2,10 +2,12 @@
 // allocates no memory once running. Its own executable: it replaces the global operator
 // new to count allocations.
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <new>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -53,6 +55,34 @@ TEST(StepLanes, RunsBothTasksEveryTime) {
   EXPECT_EQ(a, 20000);
   EXPECT_EQ(b, 20000);
   EXPECT_EQ(lanes.workerRan() + lanes.callerTookBack(), 20000);
+}
+
+// The lanes poll for 200 us before they sleep: tasks posted after longer pauses find the
+// worker asleep and must wake it; tasks posted back to back find it polling. Either way
+// every task runs once, and a task may wait for a flag the other lane sets (the world
+// step's scope waits so for the colon's wall speed).
+TEST(StepLanes, HandsOverAfterTheWorkerHasSleptAndWaitsForTheOtherLane) {
+  StepLanes lanes;
+  long a = 0, b = 0;
+  for (int i = 0; i < 40; ++i) {
+    if (i % 2 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::atomic<bool> ready{false};
+    long seen = -1;
+    lanes.run(
+        [&] {
+          waitUntilSet(ready);
+          seen = b;
+          ++a;
+        },
+        [&] {
+          ++b;
+          ready.store(true, std::memory_order_release);
+        });
+    EXPECT_EQ(seen, b) << "iteration " << i;  // the waiting task saw the other's work
+  }
+  EXPECT_EQ(a, 40);
+  EXPECT_EQ(b, 40);
+  EXPECT_EQ(lanes.workerRan() + lanes.callerTookBack(), 40);
 }
 
 TEST(StepLanes, TwoLanesGiveTheSameStatesAsOne) {
