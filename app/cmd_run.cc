@@ -44,6 +44,7 @@ struct RunOptions {
   std::string query = "fcl";
   std::string trace;        // CSV of the telemetry (a new file)
   double trace_hz = 10;     // trace rows per simulated second
+  int threads = 1;          // 2: each step's independent halves on two threads (scenarios only)
 };
 
 // The header of a --trace file: a recorded insertion of this run (scenario and parameter
@@ -72,6 +73,7 @@ void writeTraceRow(std::FILE* f, const Telemetry& t) {
 
 int runSettle(const RunOptions& o) {
   if (!o.scope.empty()) throw InputError("--scope: the settle run simulates the colon alone, without a scope");
+  if (o.threads != 1) throw InputError("--threads: the settle run simulates the colon alone, on one thread");
   const Parameters params = loadParameters(o.params.empty() ? assetPath("params/default.json") : o.params);
   std::shared_ptr<const TensionLaw> law;
   if (!o.tension_law.empty()) law = loadTensionLaw(o.tension_law);
@@ -118,6 +120,7 @@ int runScripted(const RunOptions& o) {
   if (!o.frames.empty()) checkFramesDir(o.frames);
   if (!o.video.empty()) checkVideoFile(o.video, o.view, size);
   WorldSimulation sim(scenario, law, o.query);
+  sim.useTwoLanes(o.threads == 2);
   const double dt_s = sim.dt_s();
   const long steps = o.duration_s > 0 ? std::lround(o.duration_s / dt_s) : scenario.steps();
 
@@ -233,6 +236,12 @@ void addRunCommand(CLI::App& app, Action& action) {
   cmd->add_option("--tension-law", o->tension_law,
                   "tension law file for the colon's tension elements (written by colosim identify --law-out on a "
                   "tension test); replaces the parameter file's colon.tension_law");
+  cmd->add_option("--threads", o->threads,
+                  "2: each step's independent halves (the contact queries, the colon's and the scope's steps) on "
+                  "two threads, for a run with a second core to itself; the same results bit for bit (scenarios "
+                  "only)")
+      ->check(CLI::Range(1, 2))
+      ->capture_default_str();
   cmd->add_option("--dt", o->dt_s, "time step [s] (settle only)")->check(CLI::Range(1e-5, 1e-2))->capture_default_str();
   cmd->add_option("--params", o->params, "parameter file (for a scenario: replaces the one it names and its wall_friction "
                   "override, e.g. written by colosim identify --law-out on a recorded insertion: friction, colon bending, "

@@ -40,6 +40,21 @@ TEST(Cli, BadParameterFileExitsWithTwoAndNamesIt) {
   EXPECT_NE(r.out.find("colon"), std::string::npos) << r.out;
 }
 
+// --threads 2 runs each step's halves on two threads: the scores are the same bytes, and
+// the option is refused where it does not apply.
+TEST(Cli, RunOnTwoThreadsGivesTheSameScores) {
+  const Result one = run("run sigmoid_untwist --duration 2.5 --score --json");
+  const Result two = run("run sigmoid_untwist --duration 2.5 --score --json --threads 2");
+  ASSERT_EQ(one.code, 0) << one.out;
+  ASSERT_EQ(two.code, 0) << two.out;
+  EXPECT_GT(nlohmann::json::parse(one.out)["peak_handle_force_N"].get<double>(), 0.0);
+  EXPECT_EQ(one.out, two.out);
+  EXPECT_EQ(run("run sigmoid_untwist --duration 0.1 --threads 3").code, 2);
+  const Result settle = run("run --duration 0.1 --threads 2");
+  EXPECT_EQ(settle.code, 2) << settle.out;
+  EXPECT_NE(settle.out.find("--threads"), std::string::npos) << settle.out;
+}
+
 TEST(Cli, UnknownBenchmarkAndBadFlagsExitWithTwo) {
   EXPECT_EQ(run("bench no_such_bench").code, 2);
   EXPECT_EQ(run("run --duration -1").code, 2);
