@@ -86,7 +86,6 @@ BenchOutput benchContacts() {
   const BlockTiming moving_every_t = moving(q4, &k4);  // the broadphase updated at every step
   StepLanes moving_lanes;
   const BlockTiming moving_lanes_t = moving(q5, &k5, &moving_lanes, &hash_two);
-  std::fprintf(stderr, "DEBUG steps %ld runs %ld held runs %ld\n", k5, moving_lanes.workerRan() + moving_lanes.callerTookBack(), lanes.workerRan() + lanes.callerTookBack());
   const double moving_updates = static_cast<double>(q3.wallRebuilds()) / std::max(1L, k3);
   const bool lanes_same = hashWorldState(s2) == hashWorldState(s) && hash_one == hash_two;
   const double taken_back = static_cast<double>(lanes.callerTookBack()) /

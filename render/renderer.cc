@@ -594,15 +594,7 @@ void Renderer::drawGlobal(const ColonModel& model, const Points& q, const ScopeS
 }
 
 Image readFramebuffer(const Viewport& vp) {
-  Image img;
-  readFramebuffer(vp, img);
-  return img;
-}
-
-void readFramebuffer(const Viewport& vp, Image& img) {
-  img.width = vp.width;
-  img.height = vp.height;
-  img.rgba.resize(static_cast<size_t>(vp.width) * vp.height * 4);  // glReadPixels writes every byte
+  Image img(vp.width, vp.height);
   glFinish();
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(vp.x, vp.y, vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, img.rgba.data());
@@ -610,6 +602,7 @@ void readFramebuffer(const Viewport& vp, Image& img) {
   const size_t stride = static_cast<size_t>(vp.width) * 4;
   for (int y = 0; y < vp.height / 2; ++y)
     std::swap_ranges(img.at(0, y), img.at(0, y) + stride, img.at(0, vp.height - 1 - y));
+  return img;
 }
 
 void keepDriverMemoryBetweenFrames() {

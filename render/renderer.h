@@ -94,9 +94,6 @@ class Renderer {
 /// Reads a rectangle of the current framebuffer as a top-down RGBA image (glFinish, then
 /// glReadPixels, whose rows come bottom-up, flipped).
 Image readFramebuffer(const Viewport& viewport);
-/// The same into `out`, reusing its storage: a loop that reads every frame into one image
-/// allocates (and the system zeroes and maps) nothing after the first frame.
-void readFramebuffer(const Viewport& viewport, Image& out);
 
 /// Keeps the heap's freed memory in the process between frames (glibc's trim threshold to
 /// 128 MB; once per process, called by both GL back ends when they make a context).
