@@ -132,6 +132,13 @@ VideoEncoder::VideoEncoder(const std::string& path, int width_px, int height_px,
   if (v.codec_name == "libx264") {
     av_opt_set(v.codec->priv_data, "preset", o.preset.c_str(), 0);
     av_opt_set(v.codec->priv_data, "crf", std::to_string(o.crf).c_str(), 0);
+#if defined(__x86_64__) || defined(__i386__)
+    // x264 0.164's AVX-512 code reads heap it never wrote: on an AVX-512 machine (AMD EPYC
+    // Zen 4 here) the same frames gave other bytes whenever malloc handed back used memory
+    // (MALLOC_PERTURB_ changed the file; asm=AVX2 never did). Its AVX2 code gives the bytes
+    // the AVX-512 code gives on fresh memory. Every AVX-512 processor has AVX2, FMA3 and BMI2.
+    if (__builtin_cpu_supports("avx512f")) av_opt_set(v.codec->priv_data, "x264-params", "asm=AVX2", 0);
+#endif
   } else {
     v.codec->bit_rate = 0;
     v.codec->global_quality = FF_QP2LAMBDA * 3;  // MPEG-4: fixed quantiser 3 (near-transparent)

@@ -1,6 +1,7 @@
 #include "render/video.h"
 
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -56,13 +57,17 @@ TEST(Video, EncodesEveryFrameAndDecodesCloseToTheImages) {
   EXPECT_GT(meanAbsDiff(back[5], card(96, 64, 8)), 10.0);
 }
 
+// The second video is encoded with glibc filling every fresh allocation with a pattern, so
+// an encoder that reads memory it never wrote gives other bytes (x264's AVX-512 code did).
 TEST(Video, SameFramesGiveTheSameBytes) {
   test::TempDir dir;
   for (const char* name : {"a.mp4", "b.mp4"}) {
+    if (name[0] == 'b') mallopt(M_PERTURB, 0x5a);
     VideoEncoder v(dir.file(name), 32, 32);
     for (int k = 0; k < 5; ++k) v.add(card(32, 32, k));
     v.finish();
   }
+  mallopt(M_PERTURB, 0);
   EXPECT_EQ(test::readFile(dir.file("a.mp4")), test::readFile(dir.file("b.mp4")));
 }
 
