@@ -2,9 +2,11 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/crash_report.h"
 #include "trainer/strict_json.h"
 
 int main(int argc, char** argv) {
+  colosim::app::installCrashReport();
   CLI::App app{"colosim " COLOSIM_VERSION ": a colonoscopy simulator (Kuehl & Dumont's spline colon, extended)"};
   app.set_version_flag("--version", std::string(COLOSIM_VERSION));
   app.require_subcommand(1);
