@@ -21,15 +21,18 @@ void say(const char* s) {
   }
 }
 
+void sayNumber(int v) {
+  char digits[12];
+  int k = sizeof digits - 1;
+  digits[k] = '\0';
+  do digits[--k] = static_cast<char>('0' + v % 10);
+  while ((v /= 10) > 0 && k > 0);
+  say(digits + k);
+}
+
 void onFatalSignal(int sig) {
-  char line[160] = "colosim: fatal signal ";
-  char num[8];
-  int k = 0;
-  for (int v = sig; k < 7 && (k == 0 || v > 0); v /= 10) num[k++] = static_cast<char>('0' + v % 10);
-  size_t len = std::strlen(line);
-  while (k > 0 && len + 1 < sizeof line) line[len++] = num[--k];
-  line[len] = '\0';
-  say(line);
+  say("colosim: fatal signal ");
+  sayNumber(sig);
   say(" (");
   say(sig == SIGSEGV ? "SIGSEGV" : sig == SIGBUS ? "SIGBUS" : sig == SIGFPE ? "SIGFPE" : "SIGILL");
   say(") in thread '");
@@ -39,8 +42,8 @@ void onFatalSignal(int sig) {
   void* frames[64];
   const int n = ::backtrace(frames, 64);
   ::backtrace_symbols_fd(frames, n, STDERR_FILENO);
-  // Die by the same signal: the default action, raised again on return from the handler.
-  ::signal(sig, SIG_DFL);
+  // Die by the same signal: SA_RESETHAND restored the default action on entry, and the
+  // signal raised again is delivered when the handler returns.
   ::raise(sig);
 }
 
