@@ -16,6 +16,7 @@ nlohmann::json candidateJson(const CandidateEvidence& e, bool with_magnitude) {
                       {"delta_aic", e.delta_aic}, {"delta_bic", e.delta_bic}, {"pays", e.pays},
                       {"chosen", e.chosen}};
   if (e.signature_rmse_N >= 0) c["signature_rmse_N"] = e.signature_rmse_N;
+  if (e.without_signature) c["without_signature"] = true;
   if (with_magnitude) {
     c["value"] = e.value;
     c["simulations"] = e.simulations;

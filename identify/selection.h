@@ -83,6 +83,11 @@ struct CandidateEvidence {
   /// RMS residual on the rows where the candidates' signatures differ (tension: the toe
   /// of the reloadings) [N]; negative when not measured.
   double signature_rmse_N = -1;
+  /// Not a candidate: an effect without its signature (tension: softening whose reloadings
+  /// are no softer than the virgin loading and whose toe a set fits better, or softening
+  /// and a set whose pair fits the toe no better than either alone would; see
+  /// identify/tension/identify.cc).
+  bool without_signature = false;
 };
 
 /// The rule: a candidate pays for itself when it cuts the held-out error by the ratio

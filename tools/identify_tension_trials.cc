@@ -173,6 +173,7 @@ int main(int argc, char** argv) {
     o.gain = r.heldout_rmse_ratio;
     o.unexplained = r.unexplained;
     o.bench["hold_decay"] = holdDecayJson(r.hold_decay);
+    o.bench["reload_slope_ratio"] = r.reload_slope_ratio;
     for (const ParamEstimate& p : r.extended.params) o.fitted[p.name] = p.value;
     if (o.named == o.hidden) {
       // Two fitted relaxation branches are compared in the order of their time constants.

@@ -63,6 +63,12 @@ struct IdentifyResult {
   std::vector<double> time_in_hold_s;   ///< time since the hold began, -1 outside holds
   int cycles = 0;
   HoldDecay hold_decay;                 ///< the force's decay at held strain
+  /// Softening's signature: the median slope dF/de of the reloadings (loading below a strain
+  /// reached before) over that of the virgin loadings (loading at the largest strain so far),
+  /// both fitted per loading run in the force window 0.15-0.4 x the largest reloading force.
+  /// Softening lowers the slope at a given force on reloading; a set shifts the curve along
+  /// the strain and leaves it. -1 when either kind of loading has no run in the window.
+  double reload_slope_ratio = -1;
   int working_rows = 0;                 ///< rows of the (block-averaged) selection set
   std::string diagnosis;                ///< the text of the diagnosis, for people
 };

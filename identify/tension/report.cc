@@ -38,6 +38,7 @@ nlohmann::json identifyJson(const TensionTest& t, const IdentifyResult& r) {
   j["sample_length_m"] = t.sample_length_m;
   j["cycles"] = r.cycles;
   j["hold_decay"] = holdDecayJson(r.hold_decay);
+  j["reload_slope_ratio"] = r.reload_slope_ratio;
   j["baseline"] = modelJson(r.baseline);
   j["extended"] = modelJson(r.extended);
   addSelectionJson(selectionSummary(r),

@@ -332,9 +332,75 @@ TEST(Identify, NamesASetThatGrowsWithEveryCycleAloneAndItsLawRatchets) {
   }
   // When written: named alone 6 of 8 (twice with softening beside it), the law ratchets in
   // all 8. Calibration seeds (drawn sampling rates): named alone 10 of 11, against 2 of 11
-  // with the plain set.
-  EXPECT_GE(named, 6);
+  // with the plain set. Since softening beside a set must improve the toe of the
+  // reloadings (session 36): 8 of 8.
+  EXPECT_GE(named, 7);
   EXPECT_GE(ratchets, 7);
+}
+
+}  // namespace
+}  // namespace colosim
+
+namespace colosim {
+namespace {
+
+// Softening's signatures on reloading (docs/identification.md, "On reloading"): the
+// reloadings are softer than the virgin loading at a given force, and the toe of the
+// reloadings, where a set moves the strain at which force starts, is fitted better with
+// softening than without. A set that recovers in slack (trial bench, harder forms), on a
+// staircase, was named softening alone in 7 of 50 trials (seeds 1-100): softening's held-out
+// ratio beat the set's. Softening in the forms that damage the virgin loading as it goes
+// (driven by the largest strain: other forms, and one of the harder ones) must still be
+// named. Seeds apart from the trials' and their calibration's; 50 Hz.
+TEST(Identify, TellsASetFromSofteningOnReloading) {
+  struct Tally {
+    int cases = 0, softening_named = 0, softening_alone_or_with_set = 0, hidden_named = 0, decided_by_signature = 0;
+  };
+  auto has = [](const std::vector<std::string>& e, const char* name) {
+    return std::find(e.begin(), e.end(), name) != e.end();
+  };
+  auto run = [&](const char* effect, const char* form, TrialForms forms, bool staircases, int n) {
+    Tally t;
+    for (uint64_t seed = 20001; t.cases < n && seed < 20400; ++seed) {
+      TrialSpec spec = drawTrialSpec(seed, {effect}, forms);
+      const std::string& drawn = std::string(effect) == "permanent_set" ? spec.set_form : spec.soften_form;
+      if (forms == TrialForms::kHarder && drawn != form) continue;
+      if (staircases && spec.protocol != "staircase") continue;
+      ++t.cases;
+      spec.sample_rate_hz = 50;
+      const IdentifyResult r = identifyTension(generateTrialTest(spec));
+      t.softening_named += has(r.effects, "cyclic_softening");
+      t.softening_alone_or_with_set += has(r.effects, "cyclic_softening") &&
+                                       (r.effects.size() == 1 || has(r.effects, "permanent_set"));
+      t.hidden_named += r.effects == std::vector<std::string>{effect};
+      // The rule decided it where a candidate it excluded held out better than the one chosen.
+      for (const CandidateEvidence& e : r.evidence) {
+        if (!e.without_signature) continue;
+        for (const CandidateEvidence& c : r.evidence)
+          if (c.round == e.round && c.chosen && e.heldout_ratio > c.heldout_ratio) {
+            ++t.decided_by_signature;
+            break;
+          }
+      }
+      std::string named;
+      for (const std::string& e : r.effects) named += e + " ";
+      std::printf("%s %s seed %llu: reloading slope %.3f, named %s\n", effect, form,
+                  static_cast<unsigned long long>(seed), r.reload_slope_ratio, named.c_str());
+    }
+    return t;
+  };
+  const Tally set = run("permanent_set", "recovering", TrialForms::kHarder, true, 6);
+  const Tally soft_acc = run("cyclic_softening", "recovering_accumulated", TrialForms::kHarder, false, 3);
+  const Tally soft_max = run("cyclic_softening", "recovering_largest", TrialForms::kHarder, false, 3);
+  const Tally soft_other = run("cyclic_softening", "other", TrialForms::kOther, false, 3);
+  // When written: the set named alone in 5 of 6, the rule deciding one of them; the sixth
+  // (seed 20012) named stiffening + softening, a pair the signature does not judge (the
+  // trials' stiffening + set named stiffening + softening, docs/identification-trials.md).
+  EXPECT_EQ(set.softening_alone_or_with_set, 0);
+  EXPECT_GE(set.hidden_named, 5);
+  EXPECT_GE(set.decided_by_signature, 1);
+  EXPECT_GE(soft_acc.softening_named + soft_max.softening_named + soft_other.softening_named, 8);
+  EXPECT_EQ(soft_other.decided_by_signature, 0);
 }
 
 }  // namespace
