@@ -920,11 +920,12 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   // no model with it is a candidate.
   const bool flat_holds = holdsAreFlat(r.hold_decay);
   // Softening's signature (kSoftSingleSlopeRatio): the reloadings' slope, and the toe.
+  auto effectIndex = [&](const char* name) -> size_t { return std::find(names.begin(), names.end(), name) - names.begin(); };
   const std::vector<bool> toe = toeRows(w, wr);
   std::vector<double> toe_rmse_N(n_effects);
   for (size_t i = 0; i < n_effects; ++i) toe_rmse_N[i] = maskedRmse(w, toe, singles[i].model);
-  const double set_toe_rmse_N = toe_rmse_N[std::find(names.begin(), names.end(), "permanent_set") - names.begin()];
-  const double soft_toe_rmse_N = toe_rmse_N[std::find(names.begin(), names.end(), "cyclic_softening") - names.begin()];
+  const double set_toe_rmse_N = toe_rmse_N[effectIndex("permanent_set")];
+  const double soft_toe_rmse_N = toe_rmse_N[effectIndex("cyclic_softening")];
   const bool toe_measured = std::find(toe.begin(), toe.end(), true) != toe.end();
   const bool soft_single_without_signature =
       toe_measured && r.reload_slope_ratio >= kSoftSingleSlopeRatio && set_toe_rmse_N < soft_toe_rmse_N;
@@ -952,7 +953,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   // members' single held-out errors (the better first): the candidate is the second member
   // added to the first.
   if (first >= 0 && o.max_effects >= 2) {
-    auto single = [&](const char* name) -> const Fit& { return singles[std::find(names.begin(), names.end(), name) - names.begin()]; };
+    auto single = [&](const char* name) -> const Fit& { return singles[effectIndex(name)]; };
     const bool two_relax = single("stress_relaxation").two_relax, ratchet = single("permanent_set").ratchet;
     std::vector<std::pair<size_t, size_t>> pairs;
     for (size_t a = 0; a < n_effects; ++a)
