@@ -460,17 +460,30 @@ std::vector<std::vector<double>> startsFor(const Data& d, const FittedModel& cur
 
 // The fitted `current` with `effect` added at the value that switches it off (Fung b, the
 // relaxation weights, the softening's d_inf and the set ratio at 0): the same law, so a fit
-// started there ends no worse than `current`.
+// started there ends no worse than `current`. The effect's shape (where stiffening turns
+// straight, the relaxation times, the softening's scale, the set's yield strain) is taken from
+// its own single fit `alone`: switched off, the shape does not act, so the fit cannot learn
+// it from its gradient, and a set switched off at zero yield, the first choice, sat in a
+// stationary point beside relaxation where the same set with its own yield strain paid
+// (harder forms, recovering sets: docs/identification-trials.md, session 37).
 std::vector<double> switchedOff(const Data& d, const FittedModel& current, const std::string& effect,
-                                bool two_relax, bool ratchet) {
+                                const FittedModel& alone, bool two_relax, bool ratchet) {
   std::vector<std::string> effects = current.effects;
   effects.push_back(effect);
   const std::vector<ParamDef> defs = layout(d, effects, two_relax, ratchet);
-  if (effect == "strain_stiffening") return thetaFrom(defs, current, {{"fung_b", 0.0}});
+  auto shape = [&](const char* name, double fallback) {
+    for (const ParamEstimate& p : alone.params)
+      if (p.name == name) return p.value;
+    return fallback;
+  };
+  if (effect == "strain_stiffening")
+    return thetaFrom(defs, current, {{"fung_b", 0.0}, {"fung_cap_strain", shape("fung_cap_strain", 10.0)}});
   if (effect == "stress_relaxation")
-    return thetaFrom(defs, current, {{"relax_g1", 0.0}, {"relax_tau1_s", 3.0}, {"relax_g2", 0.0}, {"relax_tau2_s", 30.0}});
-  if (effect == "cyclic_softening") return thetaFrom(defs, current, {{"soften_d_inf", 0.0}});
-  return thetaFrom(defs, current, {{"set_ratio", 0.0}, {"set_yield_strain", 0.0}, {"set_ratchet", 0.0}});
+    return thetaFrom(defs, current, {{"relax_g1", 0.0}, {"relax_tau1_s", shape("relax_tau1_s", 3.0)}, {"relax_g2", 0.0},
+                                     {"relax_tau2_s", shape("relax_tau2_s", 30.0)}});
+  if (effect == "cyclic_softening")
+    return thetaFrom(defs, current, {{"soften_d_inf", 0.0}, {"soften_a_c", shape("soften_a_c", d.total_loading_strain / 5)}});
+  return thetaFrom(defs, current, {{"set_ratio", 0.0}, {"set_yield_strain", shape("set_yield_strain", 0.0)}, {"set_ratchet", 0.0}});
 }
 
 // The toe of the reloadings: rows loading again (after the first loading) at strains up to
@@ -614,6 +627,13 @@ HoldDecay holdDecay(const Data& d, const IdentifyResult& seg, const FittedModel&
   h.sd_N = std::sqrt(var);
   h.relative = force > 0 ? h.decay_N / force : 0.0;
   return h;
+}
+
+// A model's residual decay at held strain in standard deviations (HoldDecay::z()); NaN
+// with fewer than kFlatHoldMinHolds holds.
+double holdDecayZ(const Data& d, const IdentifyResult& seg, const FittedModel& m) {
+  const HoldDecay h = holdDecay(d, seg, m);
+  return h.holds >= kFlatHoldMinHolds ? h.z() : std::numeric_limits<double>::quiet_NaN();
 }
 
 // RMS residual of a fitted model over the rows with mask[k] (0 without rows) [N].
@@ -941,6 +961,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   for (size_t i = 0; i < n_effects; ++i) {
     r.evidence[ev1 + i].signature_rmse_N = toe_rmse_N[i];
     r.evidence[ev1 + i].without_signature = no_signature[i];
+    r.evidence[ev1 + i].hold_decay_z = holdDecayZ(w, wr, singles[i].model);
   }
   Fit current = first >= 0 ? singles[first] : base;
   if (first >= 0) r.effects = {names[first]};
@@ -970,7 +991,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
       // on hidden-effect trials, dBIC > 20).
       const std::vector<std::vector<double>> starts = {startsFor(w, singles[a].model, names[b], two_relax, ratchet).front(),
                                                        startsFor(w, singles[b].model, names[a], two_relax, ratchet).front(),
-                                                       switchedOff(w, singles[a].model, names[b], two_relax, ratchet)};
+                                                       switchedOff(w, singles[a].model, names[b], singles[b].model, two_relax, ratchet)};
       cands[i] = fitModel(w, {names[a], names[b]}, starts, wr.fold, o.folds, two_relax, ratchet);
       // The set's ratchet, decided alone, is tried again beside the other effect (whose
       // misfit can hide it, or mimic it).
@@ -1004,6 +1025,7 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     for (size_t i = 0; i < pairs.size(); ++i) {
       r.evidence[ev0 + i].signature_rmse_N = pair_toe_rmse_N[i];
       r.evidence[ev0 + i].without_signature = pair_no_signature[i];
+      r.evidence[ev0 + i].hold_decay_z = holdDecayZ(w, wr, cands[i].model);
     }
     if (best >= 0) {
       const double best_ratio = r.evidence[ev0 + best].heldout_ratio;
