@@ -4,8 +4,8 @@
 // not use (identify/insertion/synthetic.h drawTwoRateInsertion: from 40-50 cm a slow push,
 // a hold, a quick push, a hold, a withdrawal; rotation wiggle, both knobs).
 //   organ_trials [--seeds N] [--first-seed S] [--duration S] [--effects none,wall_friction,...]
-//                [--no-mismatch] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose]
-//                [--report DIR]
+//                [--no-mismatch] [--search-judges-rounds] [--search-spacing M] [--data-spacing M]
+//                [--threads T] [--verbose] [--report DIR]
 // prints one line per case as it ends (hidden, named, magnitudes, held-out gain, RMSE over
 // the sensor noise, unexplained, replays, wall time), then the confusion table (rows: hidden
 // effect; columns: the first effect named, or none) and per class: named right, a wrong
@@ -58,6 +58,7 @@ int main(int argc, char** argv) {
   double duration_s = 2.0;
   bool mismatch = true;
   bool verbose = false;  // each case's candidates and diagnosis
+  bool judge_fine = true;  // round 2 judged on round 1's leaders refined at the data's resolution too
   double search_spacing_m = 0.03;  // [m]; the data's (0.015 m): no coarse search
   double data_spacing_m = 0;       // [m]; 0: the parameter file's
   std::string report;  // folder for --report; empty: none
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
     else if (a == "--duration") duration_s = std::atof(next().c_str());
     else if (a == "--effects") effects = split(next());
     else if (a == "--no-mismatch") mismatch = false;
+    else if (a == "--search-judges-rounds") judge_fine = false;
     else if (a == "--verbose") verbose = true;
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--search-spacing") search_spacing_m = std::atof(next().c_str());
@@ -85,7 +87,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--first-seed S] [--duration S] [--effects none,EFFECT,...] [--no-mismatch] "
-                   "[--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
+                   "[--search-judges-rounds] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
                    argv[0]);
       return 2;
     }
@@ -109,6 +111,7 @@ int main(int argc, char** argv) {
   InsertionIdentifyOptions opt;
   opt.threads = threads;
   opt.mismatch_term = mismatch;
+  opt.judge_rounds_at_data_resolution = judge_fine;
   opt.search_spacing_m = search_spacing_m;
   std::printf("organ trials: %d seeds from %llu, %.3g s two-rate recordings at %.3g m, refined at %.3g m, search at %.3g m, %s\n",
               seeds, first_seed, duration_s, data.params.colon.control_point_spacing_m,

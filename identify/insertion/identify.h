@@ -33,6 +33,10 @@ struct InsertionIdentifyOptions : IdentifyOptions {
   /// Effects searched again at the data's resolution: the search's first choice and the
   /// round-1 candidates with the largest held-out ratios, this many in all.
   int fine_candidates = 3;
+  /// Judge whether round 2 is needed on round 1's leaders refined at the data's resolution
+  /// as well as on the search's own residual (false: only the search's, tools/organ_trials
+  /// --search-judges-rounds, to measure what the shortcut changes).
+  bool judge_rounds_at_data_resolution = true;
 };
 
 struct InsertionIdentifyResult {
@@ -45,6 +49,9 @@ struct InsertionIdentifyResult {
   int simulations = 0;
   int skipped_round = 0;              ///< round not run because the model is explained to the noise (0: none)
   double skipped_noise_sd_N = 0;      ///< the white-noise level that decided it [N]
+  /// The round was judged not needed on round 1's leaders refined at the data's resolution
+  /// (the search's own residual was above the noise).
+  bool skipped_at_data_resolution = false;
   double seconds = 0;                 ///< wall-clock time of the identification [s]
   double search_spacing_m = 0;
   /// The data's resolution: the parameter file's spacing, at which the search's choice is

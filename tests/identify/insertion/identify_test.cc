@@ -159,3 +159,39 @@ TEST(OrganIdentify, TheFallbackSearchesEveryCandidateFromItsWholeGrid) {
 
 }  // namespace
 }  // namespace colosim
+
+namespace colosim {
+namespace {
+
+// Round 2 judged on round 1's leaders refined at the data's resolution (the search's own
+// residual keeps the coarse model's mismatch, so it alone would run round 2 for nothing) must
+// change no answer: the same effects and magnitudes, bit for bit, with fewer replays. Data at
+// 3 cm, search at 6 cm (the same relation as the shipped 1.5 cm and 3 cm, at a quarter of the
+// cost), 10 s of the shipped recording's protocol: there the search chooses colon_bending and
+// its residual stays 10 times the noise, while at 3 cm the same effect leaves the noise
+// (107 replays against 184). Shorter recordings of it (6, 8 s) leave the search choosing
+// nothing, where round 2 is not reached at all.
+TEST(OrganIdentify, Round2JudgedAtTheDataResolutionChangesNoAnswer) {
+  const ReplaySetup data = makeReplaySetup(findScenario("free_insertion_attached_rectum"), 0.03);
+  const SyntheticInsertionSpec spec = drawSyntheticInsertion(2026, 1, 10.0);  // colon_bending, the shipped draws
+  const InsertionRecording rec = makeSyntheticInsertion(data, spec);
+  InsertionIdentifyOptions opt;
+  opt.threads = 2;
+  opt.search_spacing_m = 0.06;
+  const InsertionIdentifyResult judged = identifyInsertion(rec, data, opt);
+  opt.judge_rounds_at_data_resolution = false;
+  const InsertionIdentifyResult searched = identifyInsertion(rec, data, opt);
+  std::printf("%s\n%s", judged.diagnosis.c_str(), searched.diagnosis.c_str());
+  EXPECT_EQ(judged.skipped_round, 2) << judged.diagnosis;
+  EXPECT_TRUE(judged.skipped_at_data_resolution);
+  EXPECT_EQ(searched.skipped_round, 0) << searched.diagnosis;
+  EXPECT_LT(judged.simulations, searched.simulations);
+  EXPECT_EQ(judged.effects, searched.effects);
+  for (const std::string& e : organEffectNames())
+    EXPECT_EQ(organEffectValue(judged.extended.params, e), organEffectValue(searched.extended.params, e)) << e;
+  EXPECT_EQ(judged.extended.heldout_rmse_N, searched.extended.heldout_rmse_N);
+  EXPECT_EQ(judged.unexplained, searched.unexplained);
+}
+
+}  // namespace
+}  // namespace colosim
