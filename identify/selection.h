@@ -7,7 +7,6 @@
 
 #include <cstddef>
 #include <functional>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -89,10 +88,6 @@ struct CandidateEvidence {
   /// and a set whose pair fits the toe no better than either alone would; see
   /// identify/tension/identify.cc).
   bool without_signature = false;
-  /// The decay of the candidate's residual at held strain, in standard deviations of its
-  /// noise (tension: HoldDecay::z(), positive where the data decay faster than the model);
-  /// NaN when fewer than two holds were measured.
-  double hold_decay_z = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The rule: a candidate pays for itself when it cuts the held-out error by the ratio

@@ -192,8 +192,7 @@ int main(int argc, char** argv) {
     for (const CandidateEvidence& e : r.evidence)
       o.evidence.push_back({{"round", e.round}, {"model", e.model}, {"heldout_ratio", e.heldout_ratio},
                             {"delta_bic", e.delta_bic}, {"pays", e.pays}, {"chosen", e.chosen},
-                            {"signature_rmse_N", e.signature_rmse_N},
-                            {"hold_decay_z", std::isnan(e.hold_decay_z) ? nlohmann::json() : nlohmann::json(e.hold_decay_z)}});
+                            {"signature_rmse_N", e.signature_rmse_N}});
   });
 
   // Confusion table and the targets.

@@ -493,12 +493,14 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     std::vector<Evaluated> ev;
     std::vector<CvResult> cvs;
     int pick = -1;                               // index into fc, -1: none pays
+    InsertionFit fit;                            // the pick's fit, else the paper's model
   } leaders;
   auto refineLeaders = [&] {
     if (leaders.done) return;
     leaders.done = true;
     leaders.base = makeFit({}, OrganParams{}, fine_baseline,
                            crossValidate(rec, Evaluated{{0.0}, {fine_baseline}}, fold, o.folds).heldout_sse);
+    leaders.fit = leaders.base;
     std::vector<std::pair<double, std::string>> lead;  // (search's held-out ratio, effect) of round 1
     for (const CandidateEvidence& e : r.evidence)
       if (e.round == 1) lead.push_back({e.heldout_ratio, e.effect}), leaders.search_value[e.effect] = e.value;
@@ -517,6 +519,9 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     }
     leaders.ev = fineSearch(OrganParams{}, fine_baseline, leaders.fc, from);
     leaders.pick = fineWeigh(1, leaders.base, leaders.fc, leaders.ev, &leaders.cvs);
+    if (const int p = leaders.pick; p >= 0)
+      leaders.fit = makeFit({leaders.fc[p]}, OrganParams{}, leaders.ev[p].pred[leaders.cvs[p].best],
+                            leaders.cvs[p].heldout_sse);
   };
 
   // Progress in batches of replays: per round the grid, two refinements, three focus stages.
@@ -551,11 +556,8 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       if (!explained && refine && fine_baseline.ok && o.judge_rounds_at_data_resolution) {
         refineLeaders();
         if (leaders.pick >= 0) {
-          const int p = leaders.pick;
-          const InsertionFit fine = makeFit({leaders.fc[p]}, OrganParams{}, leaders.ev[p].pred[leaders.cvs[p].best],
-                                            leaders.cvs[p].heldout_sse);
-          const double fine_noise = diagnose(rec, fine).noise_sd_N;
-          explained = noCandidateCanPay(fine.heldout_rmse_N, fine_noise, o);
+          const double fine_noise = diagnose(rec, leaders.fit).noise_sd_N;
+          explained = noCandidateCanPay(leaders.fit.heldout_rmse_N, fine_noise, o);
           if (explained) r.skipped_noise_sd_N = fine_noise, r.skipped_at_data_resolution = true;
         }
       }
@@ -693,8 +695,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       // than 1.5 cm ones: the mismatch changes with it), so every other candidate is searched
       // at the data's resolution too, from its whole grid (a start from one grid value can
       // settle at magnitude 0 below a hidden value the grid brackets), and all are weighed again.
-      const InsertionFit& best_fit = pick >= 0 ? makeFit({fc[pick]}, OrganParams{}, ev[pick].pred[cvs[pick].best], cvs[pick].heldout_sse) : model;
-      if (isUnexplained(diagnose(rec, best_fit), o)) {
+      if (isUnexplained(diagnose(rec, leaders.fit), o)) {
         // The other candidates, and the leaders that were started from one grid value and
         // settled at magnitude 0 (searched again, their evidence replaced).
         std::vector<std::string> rest;

@@ -629,13 +629,6 @@ HoldDecay holdDecay(const Data& d, const IdentifyResult& seg, const FittedModel&
   return h;
 }
 
-// A model's residual decay at held strain in standard deviations (HoldDecay::z()); NaN
-// with fewer than kFlatHoldMinHolds holds.
-double holdDecayZ(const Data& d, const IdentifyResult& seg, const FittedModel& m) {
-  const HoldDecay h = holdDecay(d, seg, m);
-  return h.holds >= kFlatHoldMinHolds ? h.z() : std::numeric_limits<double>::quiet_NaN();
-}
-
 // RMS residual of a fitted model over the rows with mask[k] (0 without rows) [N].
 double maskedRmse(const Data& d, const std::vector<bool>& mask, const FittedModel& m) {
   double s = 0;
@@ -961,7 +954,6 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
   for (size_t i = 0; i < n_effects; ++i) {
     r.evidence[ev1 + i].signature_rmse_N = toe_rmse_N[i];
     r.evidence[ev1 + i].without_signature = no_signature[i];
-    r.evidence[ev1 + i].hold_decay_z = holdDecayZ(w, wr, singles[i].model);
   }
   Fit current = first >= 0 ? singles[first] : base;
   if (first >= 0) r.effects = {names[first]};
@@ -1025,7 +1017,6 @@ IdentifyResult identifyTension(const TensionTest& test, const IdentifyOptions& o
     for (size_t i = 0; i < pairs.size(); ++i) {
       r.evidence[ev0 + i].signature_rmse_N = pair_toe_rmse_N[i];
       r.evidence[ev0 + i].without_signature = pair_no_signature[i];
-      r.evidence[ev0 + i].hold_decay_z = holdDecayZ(w, wr, cands[i].model);
     }
     if (best >= 0) {
       const double best_ratio = r.evidence[ev0 + best].heldout_ratio;
