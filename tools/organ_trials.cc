@@ -4,7 +4,8 @@
 // not use (identify/insertion/synthetic.h drawTwoRateInsertion: from 40-50 cm a slow push,
 // a hold, a quick push, a hold, a withdrawal; rotation wiggle, both knobs).
 //   organ_trials [--seeds N] [--first-seed S] [--duration S] [--effects none,wall_friction,...]
-//                [--no-mismatch] [--search-judges-rounds] [--search-spacing M] [--data-spacing M]
+//                [--no-mismatch] [--search-judges-rounds] [--search-at-data-step] [--refine-every-leader]
+//                [--search-spacing M] [--data-spacing M]
 //                [--threads T] [--verbose] [--report DIR]
 // prints one line per case as it ends (hidden, named, magnitudes, held-out gain, RMSE over
 // the sensor noise, unexplained, replays, wall time), then the confusion table (rows: hidden
@@ -59,6 +60,8 @@ int main(int argc, char** argv) {
   bool mismatch = true;
   bool verbose = false;  // each case's candidates and diagnosis
   bool judge_fine = true;  // round 2 judged on round 1's leaders refined at the data's resolution too
+  bool step_with_spacing = true;  // the search's time step scaled with its spacing
+  bool choice_first = true;       // the search's choice refined first, the other leaders when needed
   double search_spacing_m = 0.03;  // [m]; the data's (0.015 m): no coarse search
   double data_spacing_m = 0;       // [m]; 0: the parameter file's
   std::string report;  // folder for --report; empty: none
@@ -79,6 +82,8 @@ int main(int argc, char** argv) {
     else if (a == "--effects") effects = split(next());
     else if (a == "--no-mismatch") mismatch = false;
     else if (a == "--search-judges-rounds") judge_fine = false;
+    else if (a == "--search-at-data-step") step_with_spacing = false;
+    else if (a == "--refine-every-leader") choice_first = false;
     else if (a == "--verbose") verbose = true;
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--search-spacing") search_spacing_m = std::atof(next().c_str());
@@ -87,7 +92,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--first-seed S] [--duration S] [--effects none,EFFECT,...] [--no-mismatch] "
-                   "[--search-judges-rounds] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
+                   "[--search-judges-rounds] [--search-at-data-step] [--refine-every-leader] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
                    argv[0]);
       return 2;
     }
@@ -112,6 +117,8 @@ int main(int argc, char** argv) {
   opt.threads = threads;
   opt.mismatch_term = mismatch;
   opt.judge_rounds_at_data_resolution = judge_fine;
+  opt.search_step_with_spacing = step_with_spacing;
+  opt.refine_choice_first = choice_first;
   opt.search_spacing_m = search_spacing_m;
   std::printf("organ trials: %d seeds from %llu, %.3g s two-rate recordings at %.3g m, refined at %.3g m, search at %.3g m, %s\n",
               seeds, first_seed, duration_s, data.params.colon.control_point_spacing_m,

@@ -291,6 +291,11 @@ std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdent
                   r.fine_all_candidates ? "its leaders left structure, so every candidate was" : "its leaders",
                   r.data_spacing_m, r.fine_simulations);
     d << buf;
+    if (!r.leaders_not_refined.empty()) {
+      std::string others;
+      for (const std::string& e : r.leaders_not_refined) others += (others.empty() ? "" : ", ") + e;
+      d << "  (its choice, refined first, explained the data to the noise: " << others << " not refined)\n";
+    }
   }
   for (const CandidateEvidence& e : r.fine_evidence) {
     std::snprintf(buf, sizeof buf, "  at %.3f m: %s%s%s = %.4g, held-out ratio %.3f, dBIC %+.1f%s\n", r.data_spacing_m,
@@ -298,8 +303,12 @@ std::string diagnosisText(const InsertionIdentifyResult& r, const InsertionIdent
                   e.delta_bic, e.chosen ? " <- named" : e.pays ? " (pays, not best)" : "");
     d << buf;
   }
-  std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
-                r.search_spacing_m, r.seconds);
+  if (r.data_spacing_m != r.search_spacing_m)
+    std::snprintf(buf, sizeof buf, "%d simulations, %d of them at the data's %.3f m, the search's at %.3f m in %.3g ms steps, %.1f s.\n",
+                  r.simulations, r.fine_simulations, r.data_spacing_m, r.search_spacing_m, r.search_dt_s * 1e3, r.seconds);
+  else
+    std::snprintf(buf, sizeof buf, "%d simulations at %.3f m resolution, %.1f s.\n", r.simulations,
+                  r.search_spacing_m, r.seconds);
   d << buf;
   return d.str();
 }
@@ -364,6 +373,16 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   // docs/organ-identification.md, "Convergence"). Only the ranking uses it: every named
   // value and reported figure comes from the refinement at the data's resolution.
   if (refine) setup.params.contact.wall_reference_slice_m = 0;
+  // ... and steps coarser in time by the factor it is coarser in space: a step then moves
+  // the surrogate by as many control-point spacings as it moves the data's model. Half the
+  // steps for the search's replays; the mismatch term carries the difference to first order,
+  // and every reported figure comes from the data's resolution and step.
+  if (refine && o.search_step_with_spacing) {
+    const double factor = std::min(setup.params.colon.control_point_spacing_m / full_setup.params.colon.control_point_spacing_m,
+                                   setup.params.scope.segment_length_m / full_setup.params.scope.segment_length_m);
+    if (factor > 1) setup.dt_s = full_setup.dt_s * factor;
+  }
+  r.search_dt_s = setup.dt_s;
   r.data_spacing_m = full_setup.params.colon.control_point_spacing_m;
   Mismatch mismatch;
   Prediction fine_baseline;
@@ -517,7 +536,30 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       const double v = leaders.search_value[e];
       from.push_back(around(v > 0 ? v : grid(e)[1], {0.5, 1.0, 2.0}));
     }
-    leaders.ev = fineSearch(OrganParams{}, fine_baseline, leaders.fc, from);
+    // The search's choice first, alone (the replays of a leader's search do not depend on the
+    // others'): when it explains the data to the noise at this resolution, no other leader
+    // can explain them better by the rule (noCandidateCanPay), and they are not refined.
+    const size_t ev0 = r.fine_evidence.size();
+    size_t searched = 0;
+    if (o.refine_choice_first && !chosen.empty() && leaders.fc.size() > 1) {
+      leaders.ev = fineSearch(OrganParams{}, fine_baseline, {leaders.fc[0]}, {from[0]});
+      searched = 1;
+      const std::vector<std::string> first = {leaders.fc[0]};
+      if (fineWeigh(1, leaders.base, first, leaders.ev, &leaders.cvs) == 0) {
+        const InsertionFit f = makeFit(first, OrganParams{}, leaders.ev[0].pred[leaders.cvs[0].best], leaders.cvs[0].heldout_sse);
+        if (noCandidateCanPay(f.heldout_rmse_N, diagnose(rec, f).noise_sd_N, o)) {
+          r.leaders_not_refined.assign(leaders.fc.begin() + 1, leaders.fc.end());
+          leaders.fc = first;
+        }
+      }
+      r.fine_evidence.resize(ev0);  // weighed below with the rest
+    }
+    if (leaders.fc.size() > searched) {
+      const std::vector<std::string> rest(leaders.fc.begin() + searched, leaders.fc.end());
+      const std::vector<std::vector<double>> rest_from(from.begin() + searched, from.begin() + leaders.fc.size());
+      const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from);
+      leaders.ev.insert(leaders.ev.end(), more.begin(), more.end());
+    }
     leaders.pick = fineWeigh(1, leaders.base, leaders.fc, leaders.ev, &leaders.cvs);
     if (const int p = leaders.pick; p >= 0)
       leaders.fit = makeFit({leaders.fc[p]}, OrganParams{}, leaders.ev[p].pred[leaders.cvs[p].best],
@@ -794,11 +836,13 @@ nlohmann::json organIdentifyJson(const InsertionRecording& rec, const InsertionI
     for (const CandidateEvidence& e : r.fine_evidence) fine.push_back(candidateJson(e, true));
     j["evidence"]["refinement"] = {{"search_effects", r.search_effects}, {"candidates", fine},
                                    {"all_candidates", r.fine_all_candidates},
+                                   {"leaders_not_refined", r.leaders_not_refined},
                                    {"mismatch_rms_N", r.mismatch_rms_N}, {"data_spacing_m", r.data_spacing_m}};
   }
   if (!r.refuted_effects.empty())
     j["refuted"] = {{"effects", r.refuted_effects}, {"heldout_rmse_ratio", r.refuted_heldout_rmse_ratio}};
   j["timing"] = {{"seconds", r.seconds}, {"simulations", r.simulations}, {"search_spacing_m", r.search_spacing_m},
+                 {"search_dt_s", r.search_dt_s},
                  {"threads", r.threads}, {"data_spacing_m", r.data_spacing_m},
                  {"fine_simulations", r.fine_simulations}, {"mismatch_rms_N", r.mismatch_rms_N}};
   return j;

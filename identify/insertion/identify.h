@@ -37,6 +37,14 @@ struct InsertionIdentifyOptions : IdentifyOptions {
   /// as well as on the search's own residual (false: only the search's, tools/organ_trials
   /// --search-judges-rounds, to measure what the shortcut changes).
   bool judge_rounds_at_data_resolution = true;
+  /// The search steps in time coarser by the factor its spacing is coarser than the data's
+  /// (3 cm against 1.5 cm: 2 ms against 1 ms), so that a step moves the model as far in
+  /// control-point spacings as the data's model does (false: the setup's step,
+  /// tools/organ_trials --search-at-data-step).
+  bool search_step_with_spacing = true;
+  /// Refine the search's choice first, and the other leaders only when it leaves more than
+  /// the noise (false: every leader in any case, tools/organ_trials --refine-every-leader).
+  bool refine_choice_first = true;
 };
 
 struct InsertionIdentifyResult {
@@ -60,6 +68,11 @@ struct InsertionIdentifyResult {
   std::vector<std::string> search_effects;      ///< what the coarse search chose (before the refinement)
   std::vector<CandidateEvidence> fine_evidence; ///< the refinement's candidates at the data's resolution
   bool fine_all_candidates = false;             ///< the leaders left structure: every candidate refined
+  /// The search's choice, refined first, explained the data to the noise (held-out RMSE
+  /// within min_heldout_ratio of the white-noise level), so these other leaders were not
+  /// refined: nothing is left that they could explain better. Empty otherwise.
+  std::vector<std::string> leaders_not_refined;
+  double search_dt_s = 0;             ///< the search's time step [s]
   int fine_simulations = 0;           ///< replays at the data's resolution (in `simulations`)
   double mismatch_rms_N = 0;          ///< RMS fine-minus-coarse force of the last round's start model [N]
   /// Effects the selection chose whose reported held-out gain is not above 1
