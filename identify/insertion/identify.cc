@@ -539,27 +539,28 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
     // The search's choice first, alone (the replays of a leader's search do not depend on the
     // others'): when it explains the data to the noise at this resolution, no other leader
     // can explain them better by the rule (noCandidateCanPay), and they are not refined.
-    const size_t ev0 = r.fine_evidence.size();
     size_t searched = 0;
     if (o.refine_choice_first && !chosen.empty() && leaders.fc.size() > 1) {
-      leaders.ev = fineSearch(OrganParams{}, fine_baseline, {leaders.fc[0]}, {from[0]});
-      searched = 1;
+      const size_t ev0 = r.fine_evidence.size();
       const std::vector<std::string> first = {leaders.fc[0]};
+      leaders.ev = fineSearch(OrganParams{}, fine_baseline, first, {from[0]});
+      searched = 1;
       if (fineWeigh(1, leaders.base, first, leaders.ev, &leaders.cvs) == 0) {
         const InsertionFit f = makeFit(first, OrganParams{}, leaders.ev[0].pred[leaders.cvs[0].best], leaders.cvs[0].heldout_sse);
         if (noCandidateCanPay(f.heldout_rmse_N, diagnose(rec, f).noise_sd_N, o)) {
           r.leaders_not_refined.assign(leaders.fc.begin() + 1, leaders.fc.end());
           leaders.fc = first;
+          leaders.pick = 0;
+          leaders.fit = f;
+          return;
         }
       }
-      r.fine_evidence.resize(ev0);  // weighed below with the rest
+      r.fine_evidence.resize(ev0);  // weighed again below, with the rest
     }
-    if (leaders.fc.size() > searched) {
-      const std::vector<std::string> rest(leaders.fc.begin() + searched, leaders.fc.end());
-      const std::vector<std::vector<double>> rest_from(from.begin() + searched, from.begin() + leaders.fc.size());
-      const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from);
-      leaders.ev.insert(leaders.ev.end(), more.begin(), more.end());
-    }
+    const std::vector<std::string> rest(leaders.fc.begin() + searched, leaders.fc.end());
+    const std::vector<std::vector<double>> rest_from(from.begin() + searched, from.end());
+    const std::vector<Evaluated> more = fineSearch(OrganParams{}, fine_baseline, rest, rest_from);
+    leaders.ev.insert(leaders.ev.end(), more.begin(), more.end());
     leaders.pick = fineWeigh(1, leaders.base, leaders.fc, leaders.ev, &leaders.cvs);
     if (const int p = leaders.pick; p >= 0)
       leaders.fit = makeFit({leaders.fc[p]}, OrganParams{}, leaders.ev[p].pred[leaders.cvs[p].best],
