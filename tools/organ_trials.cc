@@ -5,6 +5,7 @@
 // a hold, a quick push, a hold, a withdrawal; rotation wiggle, both knobs).
 //   organ_trials [--seeds N] [--first-seed S] [--duration S] [--effects none,wall_friction,...]
 //                [--no-mismatch] [--search-judges-rounds] [--search-at-data-step] [--refine-every-leader]
+//                [--no-guessing]
 //                [--search-spacing M] [--data-spacing M]
 //                [--threads T] [--verbose] [--report DIR]
 // prints one line per case as it ends (hidden, named, magnitudes, held-out gain, RMSE over
@@ -62,6 +63,7 @@ int main(int argc, char** argv) {
   bool judge_fine = true;  // round 2 judged on round 1's leaders refined at the data's resolution too
   bool step_with_spacing = true;  // the search's time step scaled with its spacing
   bool choice_first = true;       // the search's choice refined first, the other leaders when needed
+  bool guessing = true;           // a free thread runs the next refinement stage's likely replays
   double search_spacing_m = 0.03;  // [m]; the data's (0.015 m): no coarse search
   double data_spacing_m = 0;       // [m]; 0: the parameter file's
   std::string report;  // folder for --report; empty: none
@@ -84,6 +86,7 @@ int main(int argc, char** argv) {
     else if (a == "--search-judges-rounds") judge_fine = false;
     else if (a == "--search-at-data-step") step_with_spacing = false;
     else if (a == "--refine-every-leader") choice_first = false;
+    else if (a == "--no-guessing") guessing = false;
     else if (a == "--verbose") verbose = true;
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--search-spacing") search_spacing_m = std::atof(next().c_str());
@@ -92,7 +95,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--first-seed S] [--duration S] [--effects none,EFFECT,...] [--no-mismatch] "
-                   "[--search-judges-rounds] [--search-at-data-step] [--refine-every-leader] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
+                   "[--search-judges-rounds] [--search-at-data-step] [--refine-every-leader] [--no-guessing] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
                    argv[0]);
       return 2;
     }
@@ -119,6 +122,7 @@ int main(int argc, char** argv) {
   opt.judge_rounds_at_data_resolution = judge_fine;
   opt.search_step_with_spacing = step_with_spacing;
   opt.refine_choice_first = choice_first;
+  opt.guess_next_replays = guessing;
   opt.search_spacing_m = search_spacing_m;
   std::printf("organ trials: %d seeds from %llu, %.3g s two-rate recordings at %.3g m, refined at %.3g m, search at %.3g m, %s\n",
               seeds, first_seed, duration_s, data.params.colon.control_point_spacing_m,

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
+#include "identify/insertion/replay_pool.h"
 #include "identify/report.h"
 #include "trainer/tension_law_file.h"
 
@@ -71,18 +73,6 @@ void addMismatch(const Mismatch& m, Prediction* p) {
     p->torque_Nm[k] += m.torque_Nm[k];
     p->tip_m[k] += m.tip_m[k];
   }
-}
-
-// Runs the replays of several extension sets on `threads` threads (with the mismatch term
-// added to each, when there is one).
-std::vector<Prediction> replayAll(const ReplaySetup& setup, const InsertionRecording& rec,
-                                  const std::vector<OrganParams>& jobs, int threads, const Mismatch& mismatch = {}) {
-  std::vector<Prediction> out(jobs.size());
-  runInParallel(jobs.size(), threads, [&](size_t i) {
-    out[i] = replayInsertion(setup, rec, jobs[i]);
-    addMismatch(mismatch, &out[i]);
-  });
-  return out;
 }
 
 // Offset fitted on the rows in `mask` (mean residual) and the SSE there.
@@ -180,11 +170,27 @@ Diagnostics diagnose(const InsertionRecording& rec, const InsertionFit& fit) {
 
 // Geometric midpoints between the best evaluated magnitude (full-fit SSE, > 0) and its
 // neighbours among the evaluated ones (beyond the largest: x 1.3, up to `upper`).
-std::vector<double> bracketMidpoints(const InsertionRecording& rec, const Evaluated& ev, double upper) {
+// One evaluated magnitude of an effect, as the search's next replays are chosen from it:
+// its full-fit SSE [N^2] (+inf for a replay still running, when the pool guesses the next
+// ones) and whether it succeeded.
+struct Probe {
+  double value = 0, sse = 0;
+  bool ok = true;
+};
+std::vector<Probe> probesOf(const InsertionRecording& rec, const Evaluated& ev) {
   const std::vector<char> all(rec.rows(), 1);
-  std::vector<std::pair<double, double>> pts;  // (value, SSE)
+  std::vector<Probe> out;
   for (size_t i = 0; i < ev.value.size(); ++i)
-    if (ev.pred[i].ok) pts.push_back({ev.value[i], score(rec.force_N, ev.pred[i].force_N, all).sse});
+    out.push_back({ev.value[i], ev.pred[i].ok ? score(rec.force_N, ev.pred[i].force_N, all).sse : 0.0, ev.pred[i].ok});
+  return out;
+}
+
+// Geometric midpoints between the best magnitude and its neighbours (x 1.3 beyond the
+// largest, / 1.3 above 0); none when the best is 0.
+std::vector<double> bracketMidpoints(const std::vector<Probe>& probes, double upper) {
+  std::vector<std::pair<double, double>> pts;  // (value, SSE)
+  for (const Probe& p : probes)
+    if (p.ok) pts.push_back({p.value, p.sse});
   std::sort(pts.begin(), pts.end());
   size_t b = 0;
   for (size_t i = 1; i < pts.size(); ++i)
@@ -195,6 +201,22 @@ std::vector<double> bracketMidpoints(const InsertionRecording& rec, const Evalua
   if (b > 0) out.push_back(pts[b - 1].first > 0 ? std::sqrt(pts[b - 1].first * v) : v / 1.3);
   out.push_back(b + 1 < pts.size() ? std::sqrt(pts[b + 1].first * v) : std::min(upper, v * 1.3));
   return out;
+}
+std::vector<double> bracketMidpoints(const InsertionRecording& rec, const Evaluated& ev, double upper) {
+  return bracketMidpoints(probesOf(rec, ev), upper);
+}
+
+// 4 times the best magnitude when it is the largest tried (and below the bound), else 0.
+double expansionValue(const std::vector<Probe>& probes, double upper) {
+  size_t best = 0;
+  double best_sse = 1e300, largest = 0;
+  for (size_t i = 0; i < probes.size(); ++i) {
+    largest = std::max(largest, probes[i].value);
+    if (!probes[i].ok) continue;
+    if (probes[i].sse < best_sse) best_sse = probes[i].sse, best = i;
+  }
+  const double v = probes[best].value;
+  return v > 0 && v == largest && v < upper ? std::min(upper, 4 * v) : 0;
 }
 
 // The magnitude at the vertex of the parabola through the full-fit SSE at the best
@@ -423,10 +445,48 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   auto fineSearch = [&](const OrganParams& base, const Prediction& base_pred, const std::vector<std::string>& effs,
                         const std::vector<std::vector<double>>& start) {
     std::vector<Evaluated> ev(effs.size(), Evaluated{{0.0}, {base_pred}});
-    auto runStage = [&](const std::vector<std::vector<double>>& values) {
+    // The stages: the start values; x 4 while the best is the largest (up to 3 times); three
+    // bracket halvings; the parabola's vertex. `nextPhase` gives the values of the stage after
+    // `phase` (the vertex's are computed here), kDone after the vertex.
+    enum { kStart = 0, kExpand3 = 3, kHalve1 = 10, kHalve3 = 12, kVertex = 20, kDone = -1 };
+    auto nextPhase = [&](const std::vector<std::vector<Probe>>& probes, int phase, std::vector<std::vector<double>>* out) -> int {
+      out->assign(effs.size(), {});
+      if (phase < kExpand3) {
+        bool any = false;
+        for (size_t c = 0; c < effs.size(); ++c)
+          if (const double v = expansionValue(probes[c], upperBound(effs[c])); v > 0) (*out)[c].push_back(v), any = true;
+        if (any) return phase + 1;
+      }
+      if (phase < kHalve3) {
+        for (size_t c = 0; c < effs.size(); ++c) (*out)[c] = bracketMidpoints(probes[c], upperBound(effs[c]));
+        return phase < kHalve1 ? kHalve1 : phase + 1;
+      }
+      return phase == kHalve3 ? kVertex : kDone;
+    };
+    ReplayPool pool(full_setup, rec, o.threads);
+    auto runStage = [&](const std::vector<std::vector<double>>& values, int phase) {
       std::vector<std::pair<size_t, double>> who;
       const std::vector<OrganParams> jobs = stageJobs(base, effs, values, &who);
-      const std::vector<Prediction> preds = replayAll(full_setup, rec, jobs, o.threads);
+      // While a thread waits for this stage's last replays, it runs the next stage's as they
+      // would be if those still running were worse than every other (no guess for the vertex,
+      // which the last halving moves).
+      auto guess = [&](const std::vector<const Prediction*>& done) {
+        std::vector<std::vector<Probe>> probes;
+        for (size_t c = 0; c < effs.size(); ++c) probes.push_back(probesOf(rec, ev[c]));
+        const std::vector<char> all(rec.rows(), 1);
+        for (size_t j = 0; j < jobs.size(); ++j)
+          probes[who[j].first].push_back(
+              done[j] ? Probe{who[j].second, done[j]->ok ? score(rec.force_N, done[j]->force_N, all).sse : 0.0, done[j]->ok}
+                      : Probe{who[j].second, std::numeric_limits<double>::infinity(), true});
+        std::vector<std::vector<double>> next_values;
+        const int next = nextPhase(probes, phase, &next_values);
+        std::vector<OrganParams> out;
+        if (next == kDone || next == kVertex) return out;
+        std::vector<std::pair<size_t, double>> unused;
+        for (const OrganParams& p : stageJobs(base, effs, next_values, &unused)) out.push_back(p);
+        return out;
+      };
+      const std::vector<Prediction> preds = o.guess_next_replays ? pool.run(jobs, guess) : pool.run(jobs);
       r.simulations += static_cast<int>(jobs.size());
       r.fine_simulations += static_cast<int>(jobs.size());
       for (size_t j = 0; j < jobs.size(); ++j) {
@@ -440,39 +500,25 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
         const double v = std::min(upperBound(effs[c]), s);
         if (std::find(values[c].begin(), values[c].end(), v) == values[c].end()) values[c].push_back(v);
       }
-    runStage(values);
-    // The search's magnitude can be far off when the mismatch changes with the effect: while
-    // the best is the largest value tried (below the bound), try 4 times it (up to 3 times).
-    for (int expand = 0; expand < 3; ++expand) {
-      bool any = false;
-      for (size_t c = 0; c < effs.size(); ++c) {
-        values[c].clear();
-        const std::vector<char> all(rec.rows(), 1);
-        size_t best = 0;
-        double best_sse = 1e300, largest = 0;
-        for (size_t i = 0; i < ev[c].value.size(); ++i) {
-          largest = std::max(largest, ev[c].value[i]);
-          if (!ev[c].pred[i].ok) continue;
-          const double sse = score(rec.force_N, ev[c].pred[i].force_N, all).sse;
-          if (sse < best_sse) best_sse = sse, best = i;
+    int phase = kStart;
+    runStage(values, phase);
+    for (;;) {
+      std::vector<std::vector<Probe>> probes;
+      for (size_t c = 0; c < effs.size(); ++c) probes.push_back(probesOf(rec, ev[c]));
+      const int next = nextPhase(probes, phase, &values);
+      if (next == kDone) break;
+      if (next == kVertex) {
+        for (size_t c = 0; c < effs.size(); ++c) {
+          values[c].clear();
+          const double v = parabolaVertex(rec, ev[c]);
+          if (v > 0) values[c].push_back(v);
         }
-        const double v = ev[c].value[best];
-        if (v > 0 && v == largest && v < upperBound(effs[c])) values[c].push_back(std::min(upperBound(effs[c]), 4 * v));
-        any = any || !values[c].empty();
       }
-      if (!any) break;
-      runStage(values);
+      runStage(values, next);
+      phase = next;
     }
-    for (int halving = 0; halving < 3; ++halving) {
-      for (size_t c = 0; c < effs.size(); ++c) values[c] = bracketMidpoints(rec, ev[c], upperBound(effs[c]));
-      runStage(values);
-    }
-    for (size_t c = 0; c < effs.size(); ++c) {
-      values[c].clear();
-      const double v = parabolaVertex(rec, ev[c]);
-      if (v > 0) values[c].push_back(v);
-    }
-    runStage(values);
+    r.guessed_replays += pool.guessesStarted();
+    r.guessed_replays_used += pool.guessesUsed();
     return ev;
   };
   // Weighs the searched effects against `current_fit` (round `round`); the chosen index or -1.
@@ -571,21 +617,6 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
   const long planned = 6L * o.max_effects;
   long batches = 0;
   for (int round = 1; round <= o.max_effects; ++round) {
-    if (refine && (round == 1 || o.mismatch_term)) {
-      // The mismatch at the model this round starts from: one fine and one coarse replay.
-      std::vector<Prediction> pair(o.mismatch_term ? 2 : 1);
-      runInParallel(pair.size(), o.threads,
-                    [&](size_t i) { pair[i] = replayInsertion(i == 0 ? full_setup : setup, rec, current); });
-      r.simulations += static_cast<int>(pair.size());
-      ++r.fine_simulations;
-      if (round == 1) fine_baseline = pair[0];
-      if (o.mismatch_term) {
-        mismatch = mismatchOf(pair[0], pair[1]);
-        r.mismatch_rms_N = 0;
-        for (double d : mismatch.force_N) r.mismatch_rms_N += d * d;
-        if (!mismatch.empty()) r.mismatch_rms_N = std::sqrt(r.mismatch_rms_N / mismatch.force_N.size());
-      }
-    }
     if (round > 1) {
       // Explained to the noise: no model can pay, and the round's replays are saved. With a
       // refinement this is judged at the data's resolution too, on round 1's leaders refined
@@ -614,12 +645,35 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       if (std::find(chosen.begin(), chosen.end(), e) == chosen.end()) cands.push_back(e);
     // Every candidate's evaluated set starts with the current model (magnitude 0).
     std::vector<Evaluated> ev(cands.size());
-    auto run = [&](const std::vector<std::vector<double>>& values, bool with_current) {
+    // `with_mismatch`: the round's first batch also replays the model the round starts from
+    // at the data's resolution (and at the search's, unless `with_current` already does), and
+    // the mismatch between the two is added to the batch's search replays. In one batch with
+    // the grid, so that the fine replay (the longest, started first) shares the threads with
+    // it; and only once the round is known to run.
+    auto run = [&](const std::vector<std::vector<double>>& values, bool with_current, bool with_mismatch) {
       std::vector<std::pair<size_t, double>> who;
       std::vector<OrganParams> jobs = stageJobs(current, cands, values, &who);
-      if (with_current) jobs.insert(jobs.begin(), current);
-      const std::vector<Prediction> preds = replayAll(setup, rec, jobs, o.threads, mismatch);
-      r.simulations += static_cast<int>(jobs.size());
+      const bool coarse_current = with_current || (with_mismatch && o.mismatch_term);
+      if (coarse_current) jobs.insert(jobs.begin(), current);
+      const size_t lead = with_mismatch ? 1 : 0;
+      std::vector<Prediction> preds(lead + jobs.size());
+      runInParallel(preds.size(), o.threads, [&](size_t i) {
+        preds[i] = i < lead ? replayInsertion(full_setup, rec, current) : replayInsertion(setup, rec, jobs[i - lead]);
+      });
+      r.simulations += static_cast<int>(preds.size());
+      if (with_mismatch) {
+        ++r.fine_simulations;
+        if (round == 1) fine_baseline = preds[0];
+        if (o.mismatch_term) {
+          mismatch = mismatchOf(preds[0], preds[1]);
+          r.mismatch_rms_N = 0;
+          for (double d : mismatch.force_N) r.mismatch_rms_N += d * d;
+          if (!mismatch.empty()) r.mismatch_rms_N = std::sqrt(r.mismatch_rms_N / mismatch.force_N.size());
+        }
+        preds.erase(preds.begin());
+      }
+      for (Prediction& p : preds) addMismatch(mismatch, &p);
+      if (coarse_current && !with_current) preds.erase(preds.begin()), jobs.erase(jobs.begin());
       if (o.on_progress) o.on_progress(std::min(++batches, planned), planned);
       const size_t first = with_current ? 1 : 0;
       if (with_current) {
@@ -637,7 +691,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       for (size_t c = 0; c < cands.size(); ++c) ev[c] = {{0.0}, {model.prediction}};
     std::vector<std::vector<double>> values(cands.size());
     for (size_t c = 0; c < cands.size(); ++c) values[c] = grid(cands[c]);
-    run(values, round == 1);
+    run(values, round == 1, refine && (round == 1 || o.mismatch_term));
     // Two refinements: geometric midpoints between the best value and its neighbours. Then
     // a local scan, x 1/1.1 and x 1.1 of the best: the organ's response can switch branch
     // within 15 % of a magnitude (a release during a hold that comes earlier or later,
@@ -661,7 +715,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
                                                     : std::min(upperBound(cands[c]), best * 1.7));
         }
       }
-      run(values, false);
+      run(values, false, false);
     }
     // Focus: the leading candidate that would pay (and any within 20 % of its held-out ratio)
     // gets two more bracket-halving stages and then one replay at the vertex of the parabola
@@ -688,7 +742,7 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
             if (v > 0) more[c].push_back(v);
           }
         }
-        run(more, false);
+        run(more, false, false);
       }
     }
     // Score each candidate at its best magnitude (one more parameter than the current model;
@@ -845,7 +899,8 @@ nlohmann::json organIdentifyJson(const InsertionRecording& rec, const InsertionI
   j["timing"] = {{"seconds", r.seconds}, {"simulations", r.simulations}, {"search_spacing_m", r.search_spacing_m},
                  {"search_dt_s", r.search_dt_s},
                  {"threads", r.threads}, {"data_spacing_m", r.data_spacing_m},
-                 {"fine_simulations", r.fine_simulations}, {"mismatch_rms_N", r.mismatch_rms_N}};
+                 {"fine_simulations", r.fine_simulations}, {"mismatch_rms_N", r.mismatch_rms_N},
+                 {"guessed_replays", r.guessed_replays}, {"guessed_replays_used", r.guessed_replays_used}};
   return j;
 }
 

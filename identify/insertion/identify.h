@@ -45,6 +45,10 @@ struct InsertionIdentifyOptions : IdentifyOptions {
   /// Refine the search's choice first, and the other leaders only when it leaves more than
   /// the noise (false: every leader in any case, tools/organ_trials --refine-every-leader).
   bool refine_choice_first = true;
+  /// While a refinement stage waits for its last replays, a free thread runs the next
+  /// stage's replays as they would be if those still running came out worse (ReplayPool);
+  /// the answers are the same bits either way (false: tools/organ_trials --no-guessing).
+  bool guess_next_replays = true;
 };
 
 struct InsertionIdentifyResult {
@@ -75,6 +79,9 @@ struct InsertionIdentifyResult {
   double search_dt_s = 0;             ///< the search's time step [s]
   int fine_simulations = 0;           ///< replays at the data's resolution (in `simulations`)
   double mismatch_rms_N = 0;          ///< RMS fine-minus-coarse force of the last round's start model [N]
+  /// Refinement replays started on a guess, and how many of them a stage then asked for
+  /// (these depend on thread timing; the answers do not).
+  int guessed_replays = 0, guessed_replays_used = 0;
   /// Effects the selection chose whose reported held-out gain is not above 1
   /// (gainConfirmed): not named; the data are then unexplained. Empty otherwise.
   std::vector<std::string> refuted_effects;

@@ -117,7 +117,8 @@ Parameters organParameters(const Parameters& params, const OrganParams& p) {
   return q;
 }
 
-Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p) {
+Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p,
+                           const std::atomic<bool>* cancel) {
   // The simulation `colosim run` builds (WorldSimulation from the scenario and its
   // parameters, trainer/world_simulation.h), with the extensions of `p` in the parameter set
   // and the scope threaded to the recording's first input: a recording that `colosim run
@@ -146,6 +147,10 @@ Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& r
   for (size_t k = 0; k < n; ++k) {
     // Steps whose end time reaches the row's time (recording time; 1 ns tolerance).
     while ((step * dt) < rec.time_s[k] - 1e-9) {
+      if (cancel && cancel->load(std::memory_order_relaxed)) {
+        out.ok = false;
+        return out;
+      }
       ++step;
       sim.step(recordedInput(rec, step * dt));
       tel = sim.telemetry();

@@ -2,6 +2,7 @@
 // trainer/world_simulation.h) with a chosen set of model extensions.
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,7 +83,9 @@ struct Prediction {
 /// (its start state with the scope threaded to the first row's input; a scripted start's
 /// set-up is part of the recording), then one step of dt at a time, step s taking the input
 /// interpolated at its end time s dt; each row takes the telemetry of the first step ending
-/// at or after its time (row 0 at time 0: the start state).
-Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p);
+/// at or after its time (row 0 at time 0: the start state). When `cancel` is set (checked
+/// every step), it stops there and returns a prediction that is not ok.
+Prediction replayInsertion(const ReplaySetup& setup, const InsertionRecording& rec, const OrganParams& p,
+                           const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace colosim

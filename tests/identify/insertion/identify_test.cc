@@ -209,6 +209,15 @@ TEST(OrganIdentify, Round2JudgedAtTheDataResolutionChangesNoAnswer) {
   EXPECT_TRUE(every.leaders_not_refined.empty());
   EXPECT_LT(judged.fine_simulations, every.fine_simulations);
   expectTheSameAnswer(judged, every);
+
+  // Guessing the refinement's next replays on a free thread changes no answer and no count.
+  opt.refine_choice_first = true;
+  opt.guess_next_replays = false;
+  const InsertionIdentifyResult unguessed = identifyInsertion(rec, data, opt);
+  EXPECT_EQ(unguessed.guessed_replays, 0);
+  EXPECT_EQ(unguessed.simulations, judged.simulations);
+  EXPECT_EQ(unguessed.fine_simulations, judged.fine_simulations);
+  expectTheSameAnswer(judged, unguessed);
 }
 
 }  // namespace
