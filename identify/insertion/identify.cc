@@ -168,8 +168,6 @@ Diagnostics diagnose(const InsertionRecording& rec, const InsertionFit& fit) {
   return d;
 }
 
-// Geometric midpoints between the best evaluated magnitude (full-fit SSE, > 0) and its
-// neighbours among the evaluated ones (beyond the largest: x 1.3, up to `upper`).
 // One evaluated magnitude of an effect, as the search's next replays are chosen from it:
 // its full-fit SSE [N^2] (+inf for a replay still running, when the pool guesses the next
 // ones) and whether it succeeded.
@@ -177,16 +175,19 @@ struct Probe {
   double value = 0, sse = 0;
   bool ok = true;
 };
-std::vector<Probe> probesOf(const InsertionRecording& rec, const Evaluated& ev) {
+Probe probeOf(const InsertionRecording& rec, double value, const Prediction& pred) {
   const std::vector<char> all(rec.rows(), 1);
+  return {value, pred.ok ? score(rec.force_N, pred.force_N, all).sse : 0.0, pred.ok};
+}
+std::vector<Probe> probesOf(const InsertionRecording& rec, const Evaluated& ev) {
   std::vector<Probe> out;
-  for (size_t i = 0; i < ev.value.size(); ++i)
-    out.push_back({ev.value[i], ev.pred[i].ok ? score(rec.force_N, ev.pred[i].force_N, all).sse : 0.0, ev.pred[i].ok});
+  for (size_t i = 0; i < ev.value.size(); ++i) out.push_back(probeOf(rec, ev.value[i], ev.pred[i]));
   return out;
 }
 
-// Geometric midpoints between the best magnitude and its neighbours (x 1.3 beyond the
-// largest, / 1.3 above 0); none when the best is 0.
+// Geometric midpoints between the best magnitude (full-fit SSE, > 0) and its neighbours
+// among the evaluated ones (x 1.3 beyond the largest, up to `upper`; / 1.3 above 0); none
+// when the best is 0.
 std::vector<double> bracketMidpoints(const std::vector<Probe>& probes, double upper) {
   std::vector<std::pair<double, double>> pts;  // (value, SSE)
   for (const Probe& p : probes)
@@ -473,18 +474,14 @@ InsertionIdentifyResult identifyInsertion(const InsertionRecording& rec, const R
       auto guess = [&](const std::vector<const Prediction*>& done) {
         std::vector<std::vector<Probe>> probes;
         for (size_t c = 0; c < effs.size(); ++c) probes.push_back(probesOf(rec, ev[c]));
-        const std::vector<char> all(rec.rows(), 1);
         for (size_t j = 0; j < jobs.size(); ++j)
-          probes[who[j].first].push_back(
-              done[j] ? Probe{who[j].second, done[j]->ok ? score(rec.force_N, done[j]->force_N, all).sse : 0.0, done[j]->ok}
-                      : Probe{who[j].second, std::numeric_limits<double>::infinity(), true});
+          probes[who[j].first].push_back(done[j] ? probeOf(rec, who[j].second, *done[j])
+                                                 : Probe{who[j].second, std::numeric_limits<double>::infinity(), true});
         std::vector<std::vector<double>> next_values;
         const int next = nextPhase(probes, phase, &next_values);
-        std::vector<OrganParams> out;
-        if (next == kDone || next == kVertex) return out;
+        if (next == kDone || next == kVertex) return std::vector<OrganParams>{};
         std::vector<std::pair<size_t, double>> unused;
-        for (const OrganParams& p : stageJobs(base, effs, next_values, &unused)) out.push_back(p);
-        return out;
+        return stageJobs(base, effs, next_values, &unused);
       };
       const std::vector<Prediction> preds = o.guess_next_replays ? pool.run(jobs, guess) : pool.run(jobs);
       r.simulations += static_cast<int>(jobs.size());
