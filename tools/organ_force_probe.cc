@@ -1,5 +1,7 @@
 // Step-by-step trace of a replay (diagnosing one-row handle-force spikes):
-//   organ_force_probe RECORDING.csv EFFECT|none VALUE FROM_S TO_S
+//   organ_force_probe RECORDING.csv|tEFFECT:SEED EFFECT|none VALUE FROM_S TO_S
+// (tEFFECT:SEED: the organ trials' two-rate insertion of that seed, as organ_landscape;
+// SPACING=M and DT=S in the environment replay at that spacing, default 0.03 m, and step)
 // replays the recording as replayInsertion does (3 cm resolution; rest and settled starts, not
 // a scenario's scripted set-up) and prints, for every
 // 1 ms step in [FROM_S, TO_S], the insertion, the simulated segment count, the handle force,
@@ -12,6 +14,8 @@
 #include "core/rotation.h"
 #include "core/scope_step.h"
 #include "identify/insertion/replay.h"
+#include "identify/insertion/synthetic.h"
+#include "trainer/scenario.h"
 #include "trainer/world_simulation.h"
 
 using namespace colosim;
@@ -27,14 +31,33 @@ static double jointAngle(const ScopeState& s, int k) {
 
 int main(int argc, char** argv) {
   if (argc != 6) {
-    std::fprintf(stderr, "usage: %s RECORDING.csv EFFECT|none VALUE FROM_S TO_S\n", argv[0]);
+    std::fprintf(stderr, "usage: %s RECORDING.csv|tEFFECT:SEED EFFECT|none VALUE FROM_S TO_S\n", argv[0]);
     return 2;
   }
-  const InsertionRecording rec = readInsertionRecording(argv[1]);
-  const ReplaySetup setup = makeReplaySetup(recordingScenario(rec), 0.03);
+  const std::string source = argv[1];
+  const double spacing_m = std::getenv("SPACING") ? std::atof(std::getenv("SPACING")) : 0.03;
+  InsertionRecording rec;
+  ReplaySetup setup;
+  if (source.size() > 1 && source[0] == 't' && source.find(':') != std::string::npos) {
+    const ReplaySetup data = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
+    const std::string hidden = source.substr(1, source.find(':') - 1);
+    const int index = organEffectIndex(hidden);
+    if (index < 0 && hidden != "none") {
+      std::fprintf(stderr, "unknown effect '%s'\n", hidden.c_str());
+      return 2;
+    }
+    const SyntheticInsertionSpec spec =
+        drawTwoRateInsertion(std::strtoull(source.c_str() + source.find(':') + 1, nullptr, 10), index, 2.0);
+    rec = makeSyntheticInsertion(data, spec);
+    setup = makeReplaySetup(data.scenario, spacing_m);
+  } else {
+    rec = readInsertionRecording(source);
+    setup = makeReplaySetup(recordingScenario(rec), spacing_m);
+  }
   OrganParams p;
   if (std::string(argv[2]) != "none") setOrganEffect(p, argv[2], std::atof(argv[3]));
   const double from = std::atof(argv[4]), to = std::atof(argv[5]);
+  if (std::getenv("DT")) setup.dt_s = std::atof(std::getenv("DT"));
   WorldModel model = loadWorldModel(setup.scenario.anatomy_path, organParameters(setup.params, p));
   const double dt = setup.dt_s;
   StartSpec start = startSpecOf(setup.scenario);
