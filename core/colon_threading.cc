@@ -128,7 +128,7 @@ void findThreadingContacts(const WorldModel& m, const WorldState& s, std::vector
   endChain();
 }
 
-void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt) {
+void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt, const CouplingSweep* previous) {
   s.threading.clear();
   s.threading_near.clear();
   s.threading_stops.clear();
@@ -159,7 +159,7 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt) {
   p.wall_reference_points_per_slice = 0;  // one contact per control point, whatever the points round a slice
   ContactLimitReport limit;
   const double f = applyWallContacts(p, m.colon, s.colon, m.scope, s.scope, s.threading, s.colon.loads,
-                                     s.scope.loads, &limit);
+                                     s.scope.loads, &limit, m.contact.coupling_predictor ? dt : 0.0, previous);
   s.max_wall_force_N = std::max(s.max_wall_force_N, f);
   limit.worst.kind = ContactLimitReport::Worst::Kind::kThreading;
   s.contact_limit.merge(limit);

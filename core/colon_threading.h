@@ -48,7 +48,9 @@ void findThreadingContacts(const WorldModel& model, const WorldState& state, std
 /// limit), counting them into state.max_wall_force_N and state.contact_limit; and sets the
 /// step's threading stops (stopThreading, below) in state.threading_stops. Otherwise clears
 /// both.
-void applyThreadingContacts(const WorldModel& model, WorldState& state, double dt_s);
+/// `previous`: a previous sweep's end (ContactParams::coupling_sweeps, applyWallContacts).
+void applyThreadingContacts(const WorldModel& model, WorldState& state, double dt_s,
+                            const CouplingSweep* previous = nullptr);
 
 /// The threading stop, after both bodies' steps. A penalty found at the start of a step
 /// cannot hold a control point that the scope closes on faster than its depth allows in

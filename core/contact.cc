@@ -13,7 +13,7 @@ bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a,
 double applyWallContacts(const ContactParams& P, const ColonModel& colon, const ColonState& cs,
                          const ScopeModel& scope, const ScopeState& ss, std::vector<WallContact>& contacts,
                          std::vector<SplineLoad>& colon_loads, std::vector<ScopeLoad>& scope_loads,
-                         ContactLimitReport* report) {
+                         ContactLimitReport* report, double step_s, const CouplingSweep* previous) {
   ContactLimitReport local;
   ContactLimitReport& rep = report ? *report : local;
   rep = ContactLimitReport();
@@ -92,6 +92,28 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     sl.segment = k;
     sl.r_W = r;
     sl.force_N = f_scope;
+    // The other body's part of the normal force (ContactParams::coupling_predictor,
+    // coupling_sweeps): the wall's move lowers the scope's, the point's raises the colon's.
+    double scope_extra_N = 0, colon_extra_N = 0;
+    if (previous || step_s > 0) {
+      const double k_n = n.dot(K * n);
+      if (previous) {
+        const double c_n = n.dot(C * n);
+        const ScopeState& se = *previous->scope;
+        const Vec3 r_end = se.R_WS[k] * (ss.R_WS[k].transpose() * r);
+        const auto w_wall = blend(colon.n, c.colon_segment, c.p, 0);
+        scope_extra_N = -k_n * (apply(w_wall, previous->colon->q) - apply(w_wall, cs.q)).dot(n) -
+                        c_n * (apply(w_wall, previous->colon->v) - v_wall).dot(n);
+        colon_extra_N = k_n * (se.p_W[k] + r_end - c.p_W_point).dot(n) +
+                        c_n * (se.v_W[k] + se.w_W[k].cross(r_end) - v_point).dot(n);
+      } else {
+        scope_extra_N = -step_s * k_n * v_wall.dot(n);
+        colon_extra_N = step_s * k_n * v_point.dot(n);
+      }
+      scope_extra_N = std::max(scope_extra_N, -c.normal_force_N);
+      colon_extra_N = std::max(colon_extra_N, -c.normal_force_N);
+      sl.force_N -= scope_extra_N * n;
+    }
     sl.stiffness_N_per_m = K;
     sl.damping_Ns_per_m = C;
     scope_loads.push_back(sl);
@@ -99,7 +121,7 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     SplineLoad cl;
     cl.segment = c.colon_segment;
     cl.p = c.p;
-    cl.force_N = -f_scope;
+    cl.force_N = -f_scope + colon_extra_N * n;
     cl.stiffness_N_per_m = K;
     cl.damping_Ns_per_m = C;
     colon_loads.push_back(cl);

@@ -68,6 +68,26 @@ struct ContactParams {
   /// motion within the step leave over [m]. Negative: no guard (the penalty wall alone, as
   /// in the paper).
   double lens_margin_m = 0.0005;
+  /// How the colon's and the scope's implicit solves share a contact (core/world.h
+  /// stepWorld). Each body is solved with the other held over the step, its own motion in the
+  /// contact's stiffness. false (the default, as in every step before session 40): the other
+  /// body's part of the force stays at its start value, so each feels the other's move a step
+  /// late. true: it carries the other body's move at its start velocity, which brings a quick
+  /// push's handle force at 1 ms to within 0.05 N of a 0.25 ms step (docs/numerics.md, "The
+  /// contacts' coupling").
+  bool coupling_predictor = false;
+  /// Corrections after the first solve (0: none): both bodies solved again from the start
+  /// state, each contact carrying the other body's actual move and velocity change of the
+  /// previous sweep. Repeated, they converge to the two bodies' implicit step solved
+  /// together: the reference the predictor is checked against. Each costs a pair of solves
+  /// and copies of both states (they allocate), and it runs on one lane.
+  int coupling_sweeps = 0;
+};
+
+/// The end of a previous sweep of one step (ContactParams::coupling_sweeps).
+struct CouplingSweep {
+  const ScopeState* scope = nullptr;
+  const ColonState* colon = nullptr;
 };
 
 /// What the contact force limit did in one call of applyWallContacts.
@@ -130,10 +150,17 @@ struct WallTrack {
 /// largest contact force magnitude [N] and fills WallContact::force_N. A force above
 /// params.max_point_force_N is scaled down to it (force, stiffness and damping alike); a
 /// non-finite one is dropped; both are counted in `report` when given.
+/// Each body's load holds its own motion in the contact's stiffness K. The other body's part
+/// (ContactParams::coupling_predictor, coupling_sweeps) is, with `previous` given, its actual
+/// move and velocity change from the start state to the previous sweep's end (K dx and the
+/// normal damping times dv); else, with `step_s` > 0, its move at its start velocity over
+/// step_s (K v step_s); else nothing. Either way the normal force on either side is kept
+/// from going below zero.
 double applyWallContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,
                          const ScopeModel& scope, const ScopeState& scope_state,
                          std::vector<WallContact>& contacts, std::vector<SplineLoad>& colon_loads,
-                         std::vector<ScopeLoad>& scope_loads, ContactLimitReport* report = nullptr);
+                         std::vector<ScopeLoad>& scope_loads, ContactLimitReport* report = nullptr,
+                         double step_s = 0.0, const CouplingSweep* previous = nullptr);
 
 /// Appends the loads of the colon self-contacts (equal and opposite at the two control points).
 void applySelfContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,

@@ -72,6 +72,57 @@ void restoreColonStart(WorldState& s) {
   s.colon.tension_internal = s.colon_start.tension_internal;
 }
 
+// The step's loads on both bodies from the contacts found at its start (and, for a
+// correction, the previous sweep's end: ContactParams::coupling_sweeps), the support and the
+// lens guard's wall; the colon's start state kept for the guard's second colon step.
+void loadBothBodies(const WorldModel& m, WorldState& s, double dt, const CouplingSweep* previous) {
+  s.colon.loads.clear();
+  s.scope.loads.clear();
+  s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall, s.colon.loads,
+                                         s.scope.loads, &s.contact_limit, m.contact.coupling_predictor ? dt : 0.0,
+                                         previous);
+  applyThreadingContacts(m, s, dt, previous);
+  applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
+  for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
+  setLensWall(m, s);
+  saveColonStart(s);
+}
+
+// The lens guard held the lens: the wall takes the reaction over the same step.
+void stepColonWithLensReaction(const WorldModel& m, WorldState& s, double dt) {
+  if (!(s.scope.lens_impulse_Ns > 0 && s.lens_wall_segment >= 0)) return;
+  restoreColonStart(s);
+  SplineLoad l;
+  l.segment = s.lens_wall_segment;
+  l.p = s.lens_wall_p;
+  l.force_N = (s.scope.lens_impulse_Ns / dt) * s.scope.lens_wall.n_W;
+  s.colon.loads.push_back(l);
+  stepColon(m.colon, s.colon, dt);
+}
+
+// ContactParams::coupling_sweeps: the step solved, then solved again from its start state
+// with each contact carrying the other body's move of the previous sweep, on one lane.
+void stepWithCouplingSweeps(const WorldModel& m, WorldState& s, const HandleInput& in, double dt) {
+  const ScopeState scope_start = s.scope;
+  const ColonState colon_start = s.colon;
+  for (int sweep = 0; sweep <= m.contact.coupling_sweeps; ++sweep) {
+    if (sweep > 0) {
+      const ScopeState scope_end = s.scope;
+      const ColonState colon_end = s.colon;
+      s.scope = scope_start;
+      s.colon = colon_start;
+      const CouplingSweep previous{&scope_end, &colon_end};
+      loadBothBodies(m, s, dt, &previous);
+    }
+    const bool lens_near = lensMayReachWall(m, s, dt);
+    stepColon(m.colon, s.colon, dt);
+    if (lens_near) setLensWallSpeedFromColonStep(m, s);
+    stepScope(m.scope, s.scope, in, dt);
+  }
+  stepColonWithLensReaction(m, s, dt);
+  stopThreading(m, s, dt);
+}
+
 }  // namespace
 
 WorldModel makeWorldModel(ColonModel colon, const ScopeParams& scope, const ContactParams& contact) {
@@ -112,16 +163,13 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
     q.findSelfContacts(m, s);
   }
   // Forces: each contact loads both bodies, with its stiffness for the implicit solves.
-  s.colon.loads.clear();
-  s.scope.loads.clear();
-  s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall,
-                                         s.colon.loads, s.scope.loads, &s.contact_limit);
-  applyThreadingContacts(m, s, dt);
-  applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
-  for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
-  setLensWall(m, s);
-  saveColonStart(s);
-  // Solve and integrate, each body with the other's contact forces held over the step. The
+  loadBothBodies(m, s, dt, nullptr);
+  if (m.contact.coupling_sweeps > 0) {
+    stepWithCouplingSweeps(m, s, in, dt);
+    return;
+  }
+  // Solve and integrate, each body with the other's part of the contact forces held over the
+  // step or carried at its start velocity (ContactParams::coupling_predictor). The
   // colon's step does not depend on the scope's; when the lens may reach its wall, the
   // scope's step waits for the colon's, so that the guard stops the lens at where the wall
   // will be, not at where the wall's velocity at the start would take it (a colon dragged
@@ -146,16 +194,7 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
     if (lens_near) setLensWallSpeedFromColonStep(m, s);
     stepScope(m.scope, s.scope, in, dt);
   }
-  // The lens guard held the lens: the wall takes the reaction over the same step.
-  if (s.scope.lens_impulse_Ns > 0 && s.lens_wall_segment >= 0) {
-    restoreColonStart(s);
-    SplineLoad l;
-    l.segment = s.lens_wall_segment;
-    l.p = s.lens_wall_p;
-    l.force_N = (s.scope.lens_impulse_Ns / dt) * s.scope.lens_wall.n_W;
-    s.colon.loads.push_back(l);
-    stepColon(m.colon, s.colon, dt);
-  }
+  stepColonWithLensReaction(m, s, dt);
   // The threading stops, on both bodies' solved steps.
   stopThreading(m, s, dt);
 }

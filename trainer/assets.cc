@@ -167,6 +167,16 @@ Parameters parseParameters(const std::string& text, const std::string& path) {
   cp.self_damping_Ns_per_m = contact.quantity("self_damping", "N s/m", 0.0, 1e4);
   cp.self_neighbour_radii = contact.quantity("self_neighbour_radii", "1", 0.0, 100.0);
   cp.query_margin_m = contact.quantity("query_margin", "m", 0.0, 0.2);
+  if (contact.has("coupling_predictor")) {
+    const double on = contact.quantity("coupling_predictor", "1", 0.0, 1.0);
+    if (on != 0 && on != 1) contact.fail("coupling_predictor", "must be 0 or 1");
+    cp.coupling_predictor = on == 1;
+  }
+  if (contact.has("coupling_sweeps")) {
+    const double n = contact.quantity("coupling_sweeps", "1", 0.0, 8.0);
+    if (n != static_cast<int>(n)) contact.fail("coupling_sweeps", "must be a whole number");
+    cp.coupling_sweeps = static_cast<int>(n);
+  }
   contact.finish();
 
   JsonObject env = top.object("environment");

@@ -258,6 +258,46 @@ double pressedPointForce(const Parameters& q, bool face, double depth_m) {
   return contacts[0].normal_force_N;
 }
 
+// The contact's coupling (ContactParams::coupling_predictor): each body's load carries the
+// other body's move over the step at its start velocity. A wall receding from a pressed point
+// at 0.5 m/s along the normal lowers the scope's normal load by k dt v; the point advancing
+// at 0.2 m/s raises the colon's by k dt v; the tangential parts stay; and a move that would
+// take the contact apart leaves no pull (the normal load stops at zero).
+TEST(ContactForces, ThePredictorCarriesTheOtherBodysMoveOverTheStep) {
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), p);
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, 0.2);
+  const double d = 0.002, dt = 0.001, k = p.contact.wall_stiffness_N_per_m;
+  auto loads = [&](double wall_speed, double point_speed, double step_s, Vec3* scope_force, Vec3* colon_force) {
+    WorldState t = s;
+    std::vector<WallContact> contacts = {pressedPoint(m, t, false, d)};
+    t.colon.v.colwise() = Vec3(0, 0, wall_speed);
+    t.scope.v_W[2] = Vec3(0, 0, point_speed);
+    t.scope.w_W[2].setZero();
+    std::vector<SplineLoad> colon_loads;
+    std::vector<ScopeLoad> scope_loads;
+    applyWallContacts(m.contact, m.colon, t.colon, m.scope, t.scope, contacts, colon_loads, scope_loads, nullptr, step_s);
+    *scope_force = scope_loads.at(0).force_N;
+    *colon_force = colon_loads.at(0).force_N;
+  };
+  Vec3 held_scope, held_colon, scope, colon;
+  loads(0.5, 0.2, 0.0, &held_scope, &held_colon);
+  loads(0.5, 0.2, dt, &scope, &colon);
+  // The whole colon moves alike, so the wall point moves at 0.5 m/s along the normal
+  // (0, 0, 1), away from the point.
+  EXPECT_NEAR(scope.z() - held_scope.z(), k * dt * 0.5, 1e-9);  // the scope pushed back less
+  EXPECT_NEAR(colon.z() - held_colon.z(), k * dt * 0.2, 1e-9);  // the colon pushed out more
+  EXPECT_NEAR((scope - held_scope).head<2>().norm(), 0.0, 1e-12);
+  EXPECT_NEAR((colon - held_colon).head<2>().norm(), 0.0, 1e-12);
+  // Receding at 1.5 m/s: the force is 2 N less 1.5 N of damping, and the wall's move over
+  // the step would take 1.5 N more: no pull on the scope.
+  ASSERT_EQ(p.contact.wall_damping_Ns_per_m, 1.0);
+  loads(1.5, 0.0, dt, &scope, &colon);
+  EXPECT_NEAR(scope.z(), 0.0, 1e-9);
+  EXPECT_GT(colon.z(), 0.0);
+}
+
 // The wall is stiff per length of scope, not per interaction point: the same depth on a
 // slice half as long (segments of 0.75 cm) gives half the force per point, so that the
 // wall's force per metre of scope pressed into it does not change with the resolution.

@@ -144,6 +144,31 @@ TEST(Assets, WallReferencePointsPerSliceIsOptionalWholeAndInRange) {
   expectInputError([&] { loadParameters(half); }, {half, "wall_reference_points_per_slice", "whole number"});
 }
 
+// contact.coupling_predictor (0 or 1) and contact.coupling_sweeps (a whole number 0..8) are
+// optional; the shipped patient leaves both out (the step as before session 40).
+TEST(Assets, ContactCouplingKeysAreOptionalAndChecked) {
+  test::TempDir dir;
+  const Parameters shipped = loadParameters(test::asset("params/default.json"));
+  EXPECT_FALSE(shipped.contact.coupling_predictor);
+  EXPECT_EQ(shipped.contact.coupling_sweeps, 0);
+  const std::string key = "\"query_margin\": {";
+  auto with = [&](const std::string& name, const std::string& entry, const std::string& value) {
+    return dir.write(name, paramsWith(key, "\"" + entry + "\": {\"value\": " + value +
+                                               ", \"unit\": \"1\", \"source\": \"test\"},\n    " + key));
+  };
+  EXPECT_TRUE(loadParameters(with("on.json", "coupling_predictor", "1")).contact.coupling_predictor);
+  EXPECT_FALSE(loadParameters(with("off.json", "coupling_predictor", "0")).contact.coupling_predictor);
+  EXPECT_EQ(loadParameters(with("three.json", "coupling_sweeps", "3")).contact.coupling_sweeps, 3);
+  const std::string half_on = with("half_on.json", "coupling_predictor", "0.5");
+  expectInputError([&] { loadParameters(half_on); }, {half_on, "coupling_predictor", "0 or 1"});
+  const std::string two = with("two.json", "coupling_predictor", "2");
+  expectInputError([&] { loadParameters(two); }, {two, "contact.coupling_predictor.value", "out of range"});
+  const std::string many = with("many.json", "coupling_sweeps", "9");
+  expectInputError([&] { loadParameters(many); }, {many, "contact.coupling_sweeps.value", "out of range"});
+  const std::string frac = with("frac.json", "coupling_sweeps", "1.5");
+  expectInputError([&] { loadParameters(frac); }, {frac, "coupling_sweeps", "whole number"});
+}
+
 TEST(Assets, NaNAndInfinityAreRefused) {
   test::TempDir dir;
   const std::string nan = dir.write("nan.json", paramsWith("\"value\": 0.4", "\"value\": NaN"));
