@@ -100,6 +100,14 @@ void stepColonWithLensReaction(const WorldModel& m, WorldState& s, double dt) {
   stepColon(m.colon, s.colon, dt);
 }
 
+// Both bodies' solves on one lane: the colon's first, so that the lens guard, when the lens
+// may reach its wall, takes the wall's speed from the colon's step.
+void solveBothOnOneLane(const WorldModel& m, WorldState& s, const HandleInput& in, double dt, bool lens_near) {
+  stepColon(m.colon, s.colon, dt);
+  if (lens_near) setLensWallSpeedFromColonStep(m, s);
+  stepScope(m.scope, s.scope, in, dt);
+}
+
 // ContactParams::coupling_sweeps: the step solved, then solved again from its start state
 // with each contact carrying the other body's move of the previous sweep, on one lane.
 void stepWithCouplingSweeps(const WorldModel& m, WorldState& s, const HandleInput& in, double dt) {
@@ -114,10 +122,7 @@ void stepWithCouplingSweeps(const WorldModel& m, WorldState& s, const HandleInpu
       const CouplingSweep previous{&scope_end, &colon_end};
       loadBothBodies(m, s, dt, &previous);
     }
-    const bool lens_near = lensMayReachWall(m, s, dt);
-    stepColon(m.colon, s.colon, dt);
-    if (lens_near) setLensWallSpeedFromColonStep(m, s);
-    stepScope(m.scope, s.scope, in, dt);
+    solveBothOnOneLane(m, s, in, dt, lensMayReachWall(m, s, dt));
   }
   stepColonWithLensReaction(m, s, dt);
   stopThreading(m, s, dt);
@@ -190,9 +195,7 @@ void stepWorld(const WorldModel& m, WorldState& s, const HandleInput& in, Contac
                  wall_speed_ready.store(true, std::memory_order_release);
                });
   } else {
-    stepColon(m.colon, s.colon, dt);
-    if (lens_near) setLensWallSpeedFromColonStep(m, s);
-    stepScope(m.scope, s.scope, in, dt);
+    solveBothOnOneLane(m, s, in, dt, lens_near);
   }
   stepColonWithLensReaction(m, s, dt);
   // The threading stops, on both bodies' solved steps.

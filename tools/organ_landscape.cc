@@ -34,34 +34,29 @@ int main(int argc, char** argv) {
   }
   InsertionRecording rec;
   ReplaySetup setup;
-  if (source.size() > 1 && source[0] == 't' && source.find(':') != std::string::npos) {
+  if (source.size() > 1 && (source[0] == 't' || source[0] == 'h') && source.find(':') != std::string::npos) {
     const std::string hidden = source.substr(1, source.find(':') - 1);
     const int index = organEffectIndex(hidden);
     if (index < 0 && hidden != "none") {
       std::fprintf(stderr, "unknown effect '%s'\n", hidden.c_str());
       return 2;
     }
-    ReplaySetup data = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
-    setup = makeReplaySetup(data.scenario, spacing_m);
-    if (std::getenv("DT")) data.dt_s = setup.dt_s = std::atof(std::getenv("DT"));
     const uint64_t seed = std::strtoull(source.c_str() + source.find(':') + 1, nullptr, 10);
-    const SyntheticInsertionSpec spec = drawTwoRateInsertion(seed, index, 2.0);
-    rec = makeSyntheticInsertion(data, spec);
-    std::printf("drawn: hidden %s %.6g, seed %llu, 2 s two-rate insertion (organ_trials)\n",
-                spec.effect.empty() ? "none" : spec.effect.c_str(), spec.value, static_cast<unsigned long long>(seed));
-  } else if (source.size() > 1 && source[0] == 'h' && source.find(':') != std::string::npos) {
-    const std::string hidden = source.substr(1, source.find(':') - 1);
-    const int index = organEffectIndex(hidden);
-    if (index < 0 && hidden != "none") {
-      std::fprintf(stderr, "unknown effect '%s'\n", hidden.c_str());
-      return 2;
+    SyntheticInsertionSpec spec;
+    if (source[0] == 't') {
+      ReplaySetup data = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
+      setup = makeReplaySetup(data.scenario, spacing_m);
+      if (std::getenv("DT")) data.dt_s = setup.dt_s = std::atof(std::getenv("DT"));
+      spec = drawTwoRateInsertion(seed, index, 2.0);
+      rec = makeSyntheticInsertion(data, spec);
+    } else {
+      setup = makeReplaySetup(findScenario("free_insertion_attached_rectum"), spacing_m);
+      spec = drawSyntheticInsertion(seed, index, 3.0, 0, 2);
+      rec = makeSyntheticInsertion(setup, spec);
     }
-    setup = makeReplaySetup(findScenario("free_insertion_attached_rectum"), spacing_m);
-    const uint64_t seed = std::strtoull(source.c_str() + source.find(':') + 1, nullptr, 10);
-    const SyntheticInsertionSpec spec = drawSyntheticInsertion(seed, index, 3.0, 0, 2);
-    rec = makeSyntheticInsertion(setup, spec);
-    std::printf("drawn: hidden %s %.6g, seed %llu, 3 s staircase of 2 holds\n", spec.effect.empty() ? "none" : spec.effect.c_str(),
-                spec.value, static_cast<unsigned long long>(seed));
+    std::printf("drawn: hidden %s %.6g, seed %llu, %s\n", spec.effect.empty() ? "none" : spec.effect.c_str(), spec.value,
+                static_cast<unsigned long long>(seed),
+                source[0] == 't' ? "2 s two-rate insertion (organ_trials)" : "3 s staircase of 2 holds");
   } else {
     rec = readInsertionRecording(source);
     setup = makeReplaySetup(recordingScenario(rec), spacing_m);
