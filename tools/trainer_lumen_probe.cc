@@ -16,7 +16,9 @@
 // Each report gives the handle's force and torque and the contacts' normal forces (summed
 // and largest: the wall's interaction points, the threading contacts), so that a wedge or a
 // coil pressed out by torque shows itself. LIMITS=1 prints every solver_limited event as
-// it happens (what was limited, asked against the limit: docs/hardening.md).
+// it happens (what was limited, asked against the limit: docs/hardening.md). BENDS=DEG prints,
+// at every step, each joint inside bent by more than DEG degrees (the bending section curled
+// on itself, a kink where the shaft's ring leaves a joint's outer corner unsampled).
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
@@ -26,6 +28,7 @@
 #include <vector>
 
 #include "core/lumen_check.h"
+#include "core/rotation.h"
 #include "core/spline.h"
 #include "collision/contact_query.h"
 #include "trainer/scenario.h"
@@ -60,6 +63,16 @@ int main(int argc, char** argv) {
     sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
     const WorldState& s = sim.state();
     const LumenCheck c = checkLumen(m, s, arc);
+    if (std::getenv("BENDS")) {  // BENDS=DEG: every joint inside bent beyond DEG degrees
+      const double limit_rad = std::atof(std::getenv("BENDS")) * M_PI / 180;
+      for (int j = 0; j + 1 < s.scope.inside; ++j) {
+        const Vec3 w = logSO3(s.scope.R_WS[j + 1].transpose() * s.scope.R_WS[j]);
+        const double bend = std::hypot(w.x(), w.y());
+        if (bend > limit_rad)
+          std::printf("t %.3f s: joint %d bent %.1f deg (torsion %.1f deg)\n", sim.time_s(), j, bend * 180 / M_PI,
+                      w.z() * 180 / M_PI);
+      }
+    }
     if (limits)
       for (const SimulationEvent& e : sim.events())
         if (e.name == "solver_limited") std::printf("t %.3f s: solver_limited: %s\n", sim.time_s(), e.detail.c_str());
