@@ -158,8 +158,11 @@ void applyThreadingContacts(const WorldModel& m, WorldState& s, double dt, const
   p.wall_backing_stiffness_N_per_m = 0;
   p.wall_reference_points_per_slice = 0;  // one contact per control point, whatever the points round a slice
   ContactLimitReport limit;
+  // The coupling predictor leaves them out: held by 30,000 N/m on a 6 g control point and a
+  // 3 g segment, the prediction would be scaled down to a few percent by its limit, and even so
+  // it curled the bending section in extreme_all (docs/numerics.md, "The contacts' coupling").
   const double f = applyWallContacts(p, m.colon, s.colon, m.scope, s.scope, s.threading, s.colon.loads,
-                                     s.scope.loads, &limit, m.contact.coupling_predictor ? dt : 0.0, previous);
+                                     s.scope.loads, &limit, 0.0, previous);
   s.max_wall_force_N = std::max(s.max_wall_force_N, f);
   limit.worst.kind = ContactLimitReport::Worst::Kind::kThreading;
   s.contact_limit.merge(limit);

@@ -5,6 +5,14 @@
 
 namespace colosim {
 
+namespace {
+// The smallest eigenvalue of a uniform Catmull-Rom mass matrix (eq. 3) over its row sum: the
+// alternating mode, which contacts along a colon gathered onto the scope can excite (inverse
+// power iteration on 40 interior points; the mass at a control point itself, 1 / (M^-1)_ii,
+// is 0.76 of the row sum).
+constexpr double kCatmullRomLightestMassFraction = 0.30;
+}  // namespace
+
 bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a, int b) {
   const double ds = std::abs(colon.s_rest_m(b) - colon.s_rest_m(a));
   return ds < params.self_neighbour_radii * std::max(colon.radius_m(a), colon.radius_m(b));
@@ -13,7 +21,8 @@ bool selfNeighbours(const ContactParams& params, const ColonModel& colon, int a,
 double applyWallContacts(const ContactParams& P, const ColonModel& colon, const ColonState& cs,
                          const ScopeModel& scope, const ScopeState& ss, std::vector<WallContact>& contacts,
                          std::vector<SplineLoad>& colon_loads, std::vector<ScopeLoad>& scope_loads,
-                         ContactLimitReport* report, double step_s, const CouplingSweep* previous) {
+                         ContactLimitReport* report, double step_s, const CouplingSweep* previous,
+                         CouplingStiffness* limit) {
   ContactLimitReport local;
   ContactLimitReport& rep = report ? *report : local;
   rep = ContactLimitReport();
@@ -30,6 +39,19 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
                                   : 1.0;
   const double slice_scale = length_scale * points_scale;
   const size_t slice_points = scope.interaction_points_S.size();
+  const bool limit_prediction = limit && !previous && step_s > 0;
+  if (limit_prediction) {  // each contact's eq. 7 stiffness (before the force limit), summed per body
+    limit->scope_segment_N_per_m.setZero();
+    limit->colon_point_N_per_m.setZero();
+    for (const WallContact& c : contacts) {
+      const double w = (static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0) * c.weight;
+      const double k_n =
+          w * (P.wall_stiffness_N_per_m + (c.depth_m > P.wall_thickness_m ? P.wall_backing_stiffness_N_per_m : 0.0));
+      limit->scope_segment_N_per_m(c.scope_segment) += k_n;
+      const Blend b = blend(colon.n, c.colon_segment, c.p, 0);
+      for (int i = 0; i < 4; ++i) limit->colon_point_N_per_m(b.index[i]) += std::abs(b.w[i]) * k_n;
+    }
+  }
   for (WallContact& c : contacts) {
     const double w_slice = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
     const double w = w_slice * c.weight;
@@ -96,7 +118,24 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     // coupling_sweeps): the wall's move lowers the scope's, the point's raises the colon's.
     double scope_extra_N = 0, colon_extra_N = 0;
     if (previous || step_s > 0) {
-      const double k_n = n.dot(K * n);
+      double k_n = n.dot(K * n);
+      if (limit_prediction) {
+        const Blend b = blend(colon.n, c.colon_segment, c.p, 0);
+        int nearest = b.index[0];  // the control point of the largest weight
+        double w_nearest = b.w[0];
+        for (int i = 1; i < 4; ++i)
+          if (b.w[i] > w_nearest) w_nearest = b.w[i], nearest = b.index[i];
+        // The scope: its segment as a free rigid body pushed at the point along n (a ring at a
+        // segment's end: a quarter of its mass). The colon: the lightest mode of its mass
+        // matrix, kCatmullRomLightestMassFraction of a control point's row sum.
+        const Vec3 rn = ss.R_WS[k].transpose() * r.cross(n);
+        const double inverse_mass_scope =
+            1.0 / scope.segment_mass_kg + rn.cwiseAbs2().cwiseQuotient(scope.segment_inertia_kgm2).sum();
+        const double a_scope = limit->scope_segment_N_per_m(k) * step_s * step_s * inverse_mass_scope;
+        const double a_colon = limit->colon_point_N_per_m(nearest) * step_s * step_s /
+                               (kCatmullRomLightestMassFraction * colon.mass_rowsum_kg(nearest));
+        if (a_scope * a_colon > 1) k_n /= a_scope * a_colon;
+      }
       if (previous) {
         const double c_n = n.dot(C * n);
         const ScopeState& se = *previous->scope;

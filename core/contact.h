@@ -72,9 +72,10 @@ struct ContactParams {
   /// stepWorld). Each body is solved with the other held over the step, its own motion in the
   /// contact's stiffness. false (the default, as in every step before session 40): the other
   /// body's part of the force stays at its start value, so each feels the other's move a step
-  /// late. true: it carries the other body's move at its start velocity, which brings a quick
-  /// push's handle force at 1 ms to within 0.05 N of a 0.25 ms step (docs/numerics.md, "The
-  /// contacts' coupling").
+  /// late. true: each wall contact carries the other body's move at its start velocity,
+  /// limited where both bodies are light against their contacts (applyWallContacts), which
+  /// brings a quick push's handle force at 1 ms to a median 0.2 N of a 0.25 ms step (1.3 N
+  /// lagging); the threading contacts keep the lag (docs/numerics.md, "The contacts' coupling").
   bool coupling_predictor = false;
   /// Corrections after the first solve (0: none): both bodies solved again from the start
   /// state, each contact carrying the other body's actual move and velocity change of the
@@ -82,6 +83,14 @@ struct ContactParams {
   /// together: the reference the predictor is checked against. Each costs a pair of solves
   /// and copies of both states (they allocate), and it runs on one lane.
   int coupling_sweeps = 0;
+};
+
+/// Scratch of the coupling predictor's limit (applyWallContacts): the wall contacts' normal
+/// stiffness summed per scope segment (K) and per colon control point (n, through the
+/// blending weights' magnitudes) [N/m]. Sized by the caller so that the step allocates nothing.
+struct CouplingStiffness {
+  Eigen::VectorXd scope_segment_N_per_m;
+  Eigen::VectorXd colon_point_N_per_m;
 };
 
 /// The end of a previous sweep of one step (ContactParams::coupling_sweeps).
@@ -156,11 +165,19 @@ struct WallTrack {
 /// normal damping times dv); else, with `step_s` > 0, its move at its start velocity over
 /// step_s (K v step_s); else nothing. Either way the normal force on either side is kept
 /// from going below zero.
+/// With `limit` given (and step_s > 0), the predicted part is limited where both bodies are
+/// light against their contacts: with a = K_sum step_s^2 / m on each side (K_sum the summed
+/// normal stiffness on the scope segment, on the contact's nearest control point; m the
+/// segment's mass, the point's mass-matrix row sum), it is scaled by min(1, 1 / (a_scope
+/// a_colon)). Each body still solves against the other's predicted move, and the two lanes stay
+/// independent; unlimited, the prediction is an explicit coupling that grows without bound
+/// when a_scope a_colon exceeds about 4 (docs/numerics.md, "The contacts' coupling").
 double applyWallContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,
                          const ScopeModel& scope, const ScopeState& scope_state,
                          std::vector<WallContact>& contacts, std::vector<SplineLoad>& colon_loads,
                          std::vector<ScopeLoad>& scope_loads, ContactLimitReport* report = nullptr,
-                         double step_s = 0.0, const CouplingSweep* previous = nullptr);
+                         double step_s = 0.0, const CouplingSweep* previous = nullptr,
+                         CouplingStiffness* limit = nullptr);
 
 /// Appends the loads of the colon self-contacts (equal and opposite at the two control points).
 void applySelfContacts(const ContactParams& params, const ColonModel& colon, const ColonState& colon_state,

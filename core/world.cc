@@ -80,7 +80,7 @@ void loadBothBodies(const WorldModel& m, WorldState& s, double dt, const Couplin
   s.scope.loads.clear();
   s.max_wall_force_N = applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, s.wall, s.colon.loads,
                                          s.scope.loads, &s.contact_limit, m.contact.coupling_predictor ? dt : 0.0,
-                                         previous);
+                                         previous, &s.coupling_stiffness);
   applyThreadingContacts(m, s, dt, previous);
   applySelfContacts(m.contact, m.colon, s.colon, s.self, s.colon.loads);
   for (const RegionSupport& r : s.support) addRegionSupport(m.colon, s.colon, r, s.colon.loads);
@@ -155,6 +155,8 @@ WorldState makeWorldState(const WorldModel& m) {
   s.colon_start.q = s.colon.q;
   s.colon_start.v = s.colon.v;
   s.colon_start.tension_internal = s.colon.tension_internal;
+  s.coupling_stiffness.scope_segment_N_per_m.setZero(m.scope.segment_count);
+  s.coupling_stiffness.colon_point_N_per_m.setZero(m.colon.n);
   return s;
 }
 

@@ -69,6 +69,9 @@ struct WorldState {
     double time_s = 0;
     std::vector<double> tension_internal;
   } colon_start;
+  /// Scratch: the wall contacts' stiffness per body that limits the coupling predictor
+  /// (applyWallContacts). Sized by makeWorldState().
+  CouplingStiffness coupling_stiffness;
   /// Where the lens guard's wall is this step: the tip slice's track (-1: no guard).
   int lens_wall_segment = -1;
   double lens_wall_p = 0;

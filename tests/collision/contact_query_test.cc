@@ -298,6 +298,47 @@ TEST(ContactForces, ThePredictorCarriesTheOtherBodysMoveOverTheStep) {
   EXPECT_GT(colon.z(), 0.0);
 }
 
+// ... limited where both bodies are light against their contacts (the limit given): with
+// a = K_sum dt^2 / m_eff on each side (the summed stiffness on the scope segment and on the
+// contact's nearest control point), the prediction is scaled by 1 / (a_scope a_colon) when
+// that product exceeds 1. One point pressed 2 mm deep (1000 N/m on a 3 g segment and a 6 g
+// control point) keeps the whole prediction. Twenty points pressed 4 mm deep at the same place,
+// through the wall's thickness (31,000 N/m each, 34 N: below the force limit), keep a small
+// part of it, and forty keep a quarter of what twenty keep: a_scope a_colon grows as the
+// square of the summed stiffness.
+TEST(ContactForces, ThePredictionIsLimitedWhereBothBodiesAreLightAgainstTheirContacts) {
+  const Parameters p = loadParameters(test::asset("params/default.json"));
+  const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), p);
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, 0.2);
+  s.colon.v.colwise() = Vec3(0, 0, 0.5);  // the wall recedes at 0.5 m/s along the normal
+  const double dt = 0.001;
+  // The scope's normal load with the prediction less that without, per contact [N].
+  auto predicted = [&](int count, double depth_m, CouplingStiffness* limit) {
+    std::vector<WallContact> contacts(count, pressedPoint(m, s, false, depth_m));
+    std::vector<SplineLoad> colon_loads;
+    std::vector<ScopeLoad> scope_loads;
+    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads, nullptr, dt,
+                      nullptr, limit);
+    const double with = scope_loads.at(0).force_N.z();
+    scope_loads.clear();
+    applyWallContacts(m.contact, m.colon, s.colon, m.scope, s.scope, contacts, colon_loads, scope_loads);
+    return with - scope_loads.at(0).force_N.z();
+  };
+  CouplingStiffness limit;
+  limit.scope_segment_N_per_m.setZero(m.scope.segment_count);
+  limit.colon_point_N_per_m.setZero(m.colon.n);
+  const double k = p.contact.wall_stiffness_N_per_m, k_deep = k + p.contact.wall_backing_stiffness_N_per_m;
+  EXPECT_NEAR(predicted(1, 0.002, &limit), k * dt * 0.5, 1e-9);
+  EXPECT_NEAR(predicted(1, 0.002, nullptr), k * dt * 0.5, 1e-9);
+  EXPECT_NEAR(predicted(20, 0.004, nullptr), k_deep * dt * 0.5, 1e-9);
+  const double twenty = predicted(20, 0.004, &limit);
+  EXPECT_NEAR(limit.scope_segment_N_per_m(2), 20 * k_deep, 1e-6);
+  EXPECT_GT(twenty, 0.0);
+  EXPECT_LT(twenty, 1e-3 * k_deep * dt * 0.5);
+  EXPECT_NEAR(predicted(40, 0.004, &limit), twenty / 4, 1e-12);  // a difference of two 34 N loads
+}
+
 // The wall is stiff per length of scope, not per interaction point: the same depth on a
 // slice half as long (segments of 0.75 cm) gives half the force per point, so that the
 // wall's force per metre of scope pressed into it does not change with the resolution.
