@@ -41,8 +41,8 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
   const size_t slice_points = scope.interaction_points_S.size();
   const bool limit_prediction = limit && !previous && step_s > 0;
   if (limit_prediction) {  // each contact's eq. 7 stiffness (before the force limit), summed per body
-    limit->scope_segment_N_per_m.setZero();
-    limit->colon_point_N_per_m.setZero();
+    limit->scope_segment_N_per_m.setZero(scope.segment_count);  // no allocation at the right size
+    limit->colon_point_N_per_m.setZero(colon.n);
     for (const WallContact& c : contacts) {
       const double w = (static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0) * c.weight;
       const double k_n =

@@ -87,7 +87,8 @@ struct ContactParams {
 
 /// Scratch of the coupling predictor's limit (applyWallContacts): the wall contacts' normal
 /// stiffness summed per scope segment (K) and per colon control point (n, through the
-/// blending weights' magnitudes) [N/m]. Sized by the caller so that the step allocates nothing.
+/// blending weights' magnitudes) [N/m]. applyWallContacts sizes them; sized already (as
+/// makeWorldState does), the step allocates nothing.
 struct CouplingStiffness {
   Eigen::VectorXd scope_segment_N_per_m;
   Eigen::VectorXd colon_point_N_per_m;

@@ -171,6 +171,25 @@ TEST(StepAllocations, AStepAllocatesNothingOnceRunning) {
   EXPECT_GT(q.wallRebuilds() - updates_before, 10);
 }
 
+// ... nor with the contacts' coupling predictor on (ContactParams::coupling_predictor): its
+// limit's stiffness sums live in the state, sized by makeWorldState.
+TEST(StepAllocations, WithTheCouplingPredictorAStepAllocatesNothing) {
+  Parameters p = loadParameters(test::asset("params/default.json"));
+  p.contact.coupling_predictor = true;
+  const WorldModel m = loadWorldModel(test::asset("anatomy/adult.json"), p);
+  WorldState s = makeWorldState(m);
+  threadScopeAlongColon(m, s, m.colon.length_m() - 0.02);
+  FclContactQuery q(m);
+  const HandleInput start = s.scope.input;
+  for (int k = 0; k < 300; ++k) stepWorld(m, s, scripted(start, -k), q, kDt);
+  g_allocations = 0;
+  g_counting = true;
+  for (int k = 300; k < 500; ++k) stepWorld(m, s, scripted(start, -k), q, kDt);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(s.wall.size(), 20u);
+}
+
 // The counter counts: a step from a fresh query (its scratch vectors empty) allocates.
 TEST(StepAllocations, TheCounterSeesAFreshQuerysAllocations) {
   const WorldModel m = adultWorld();
