@@ -39,30 +39,39 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
                                   : 1.0;
   const double slice_scale = length_scale * points_scale;
   const size_t slice_points = scope.interaction_points_S.size();
+  // A contact's scale of the per-point values: its slice's (the tip face's points: 1).
+  auto sliceScale = [&](const WallContact& c) {
+    return static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
+  };
+  // The backing's stiffness of a contact of weight w, where the point is pressed through the
+  // wall's thickness (eq. 7 gives the wall's own, w k_wall, at any depth) [N/m].
+  auto backingStiffness = [&](const WallContact& c, double w) {
+    return c.depth_m - P.wall_thickness_m > 0 ? w * P.wall_backing_stiffness_N_per_m : 0.0;
+  };
   const bool limit_prediction = limit && !previous && step_s > 0;
-  if (limit_prediction) {  // each contact's eq. 7 stiffness (before the force limit), summed per body
+  if (limit_prediction) {  // each contact's stiffness, summed per body
     limit->scope_segment_N_per_m.setZero(scope.segment_count);  // no allocation at the right size
     limit->colon_point_N_per_m.setZero(colon.n);
     for (const WallContact& c : contacts) {
-      const double w = (static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0) * c.weight;
-      const double k_n =
-          w * (P.wall_stiffness_N_per_m + (c.depth_m > P.wall_thickness_m ? P.wall_backing_stiffness_N_per_m : 0.0));
+      const double w = sliceScale(c) * c.weight;
+      const double k_n = w * P.wall_stiffness_N_per_m + backingStiffness(c, w);  // before the force limit
       limit->scope_segment_N_per_m(c.scope_segment) += k_n;
       const Blend b = blend(colon.n, c.colon_segment, c.p, 0);
       for (int i = 0; i < 4; ++i) limit->colon_point_N_per_m(b.index[i]) += std::abs(b.w[i]) * k_n;
     }
   }
   for (WallContact& c : contacts) {
-    const double w_slice = static_cast<size_t>(c.point) < slice_points ? slice_scale : 1.0;
+    const double w_slice = sliceScale(c);
     const double w = w_slice * c.weight;
     const double k_wall = w * P.wall_stiffness_N_per_m, c_wall = w * P.wall_damping_Ns_per_m;
     const double backed_m = c.depth_m - P.wall_thickness_m;  // > 0: pressed through the wall's thickness
-    const double k_back = backed_m > 0 ? w * P.wall_backing_stiffness_N_per_m : 0.0;
+    const double k_back = backingStiffness(c, w);
     const double max_force_N = w_slice * P.max_point_force_N;
     const int k = c.scope_segment;
     const Vec3 r = c.p_W_point - ss.p_W[k];
     const Vec3 v_point = ss.v_W[k] + ss.w_W[k].cross(r);
-    const Vec3 v_wall = apply(blend(colon.n, c.colon_segment, c.p, 0), cs.v);
+    const Blend b_wall = blend(colon.n, c.colon_segment, c.p, 0);  // the wall point M_j(p)
+    const Vec3 v_wall = apply(b_wall, cs.v);
     const Vec3 v_rel = v_point - v_wall;
     const Vec3& n = c.normal_W;
     const double v_n = v_rel.dot(n);  // > 0: moving deeper into the wall
@@ -120,11 +129,10 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
     if (previous || step_s > 0) {
       double k_n = n.dot(K * n);
       if (limit_prediction) {
-        const Blend b = blend(colon.n, c.colon_segment, c.p, 0);
-        int nearest = b.index[0];  // the control point of the largest weight
-        double w_nearest = b.w[0];
+        int nearest = b_wall.index[0];  // the control point of the largest weight
+        double w_nearest = b_wall.w[0];
         for (int i = 1; i < 4; ++i)
-          if (b.w[i] > w_nearest) w_nearest = b.w[i], nearest = b.index[i];
+          if (b_wall.w[i] > w_nearest) w_nearest = b_wall.w[i], nearest = b_wall.index[i];
         // The scope: its segment as a free rigid body pushed at the point along n (a ring at a
         // segment's end: a quarter of its mass). The colon: the lightest mode of its mass
         // matrix, kCatmullRomLightestMassFraction of a control point's row sum.
@@ -140,9 +148,8 @@ double applyWallContacts(const ContactParams& P, const ColonModel& colon, const 
         const double c_n = n.dot(C * n);
         const ScopeState& se = *previous->scope;
         const Vec3 r_end = se.R_WS[k] * (ss.R_WS[k].transpose() * r);
-        const auto w_wall = blend(colon.n, c.colon_segment, c.p, 0);
-        scope_extra_N = -k_n * (apply(w_wall, previous->colon->q) - apply(w_wall, cs.q)).dot(n) -
-                        c_n * (apply(w_wall, previous->colon->v) - v_wall).dot(n);
+        scope_extra_N = -k_n * (apply(b_wall, previous->colon->q) - apply(b_wall, cs.q)).dot(n) -
+                        c_n * (apply(b_wall, previous->colon->v) - v_wall).dot(n);
         colon_extra_N = k_n * (se.p_W[k] + r_end - c.p_W_point).dot(n) +
                         c_n * (se.v_W[k] + se.w_W[k].cross(r_end) - v_point).dot(n);
       } else {

@@ -169,7 +169,8 @@ struct WallTrack {
 /// With `limit` given (and step_s > 0), the predicted part is limited where both bodies are
 /// light against their contacts: with a = K_sum step_s^2 / m on each side (K_sum the summed
 /// normal stiffness on the scope segment, on the contact's nearest control point; m the
-/// segment's mass, the point's mass-matrix row sum), it is scaled by min(1, 1 / (a_scope
+/// segment's effective mass at the point as a free rigid body, and 0.30 of the point's
+/// mass-matrix row sum, the matrix's lightest mode), it is scaled by min(1, 1 / (a_scope
 /// a_colon)). Each body still solves against the other's predicted move, and the two lanes stay
 /// independent; unlimited, the prediction is an explicit coupling that grows without bound
 /// when a_scope a_colon exceeds about 4 (docs/numerics.md, "The contacts' coupling").
