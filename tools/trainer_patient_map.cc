@@ -6,6 +6,7 @@
 //     anticlockwise: the writhe 10 s after the withdrawal began, whether the loop stays,
 //     the largest handle torque; "pattern yes" when no rotation leaves the loop and exactly
 //     one direction takes it out (LoopMechanics.WithTheTipHookedOnlyOneRotationUndoesTheLoop);
+//     after each, how far the hooked tip slid back along the colon;
 //   - the hooked withdrawal (withdraw_m over withdraw_s; default 0.15 m over 8 s, the
 //     Pleating test's): the sigmoid's present/rest length when the hook is set and its least,
 //     how far the tip slid back;
@@ -47,10 +48,11 @@ int main(int argc, char** argv) {
     const HookedWithdrawal w = hookedWithdrawal(p, withdraw_m, withdraw_s);
     const bool pattern = none.stays() && cw.stays() != ccw.stays();
     auto mark = [](const HookedUntwist& u) { return u.stays() ? "S" : "-"; };
-    std::printf("%s\n  start %+.2f | none %+.2f %s %.3f N m | cw %+.2f %s %.3f N m | ccw %+.2f %s %.3f N m | pattern %s | "
-                "sigmoid %.3f -> %.3f, tip back %.3f m | limited steps %ld\n",
-                f.c_str(), none.writhe_start, none.writhe_end, mark(none), none.peak_torque_Nm, cw.writhe_end, mark(cw),
-                cw.peak_torque_Nm, ccw.writhe_end, mark(ccw), ccw.peak_torque_Nm, pattern ? "yes" : "no",
+    std::printf("%s\n  start %+.2f | none %+.2f %s %.3f N m, tip back %.3f m | cw %+.2f %s %.3f N m, %.3f m | ccw %+.2f %s "
+                "%.3f N m, %.3f m | pattern %s | sigmoid %.3f -> %.3f, tip back %.3f m | limited steps %ld\n",
+                f.c_str(), none.writhe_start, none.writhe_end, mark(none), none.peak_torque_Nm, none.tip_back_m,
+                cw.writhe_end, mark(cw), cw.peak_torque_Nm, cw.tip_back_m, ccw.writhe_end, mark(ccw), ccw.peak_torque_Nm,
+                ccw.tip_back_m, pattern ? "yes" : "no",
                 w.sigmoid_before, w.sigmoid_least, w.tip_back_m,
                 none.limited_steps + cw.limited_steps + ccw.limited_steps + w.limited_steps);
     if (!abuse) continue;

@@ -22,14 +22,19 @@ HookedUntwist hookedUntwist(const Parameters& params, double rotation_scale) {
   WorldSimulation sim(sc, params);
   HookedUntwist o;
   const long steps = std::lround(12.0 / sim.dt_s());
+  double tip_at_start_m = 0;
   for (long k = 0; k < steps; ++k) {
     sim.step(scriptedInput(sc.script, static_cast<double>(k) * sim.dt_s()));
     const Telemetry t = sim.telemetry();
-    if (k + 1 == std::lround(2.0 / sim.dt_s())) o.writhe_start = t.loop_writhe;
+    if (k + 1 == std::lround(2.0 / sim.dt_s())) {
+      o.writhe_start = t.loop_writhe;
+      tip_at_start_m = t.tip_arclength_m;
+    }
     o.peak_torque_Nm = std::max(o.peak_torque_Nm, std::abs(t.handle_torque_Nm));
     if (t.solver_limited > 0) ++o.limited_steps;
   }
   o.writhe_end = sim.telemetry().loop_writhe;
+  o.tip_back_m = tip_at_start_m - sim.telemetry().tip_arclength_m;
   return o;
 }
 

@@ -18,6 +18,10 @@ struct HookedUntwist {
   double writhe_start = 0;    ///< the loop's writhe at the end of the set-up (2 s) [turns]
   double writhe_end = 0;      ///< 10 s after the withdrawal began (12 s) [turns]
   double peak_torque_Nm = 0;  ///< largest |handle torque| [N m]
+  /// How far the hooked tip slid back along the colon from 2 s to 12 s (rest arclength,
+  /// positive back) [m]: a hook that holds keeps it near 0; a withdrawal the loop does not
+  /// give way to takes the tip back instead.
+  double tip_back_m = 0;
   long limited_steps = 0;     ///< steps in which a solver or contact limit engaged
   /// The loop of the start is still there: the same handedness, at least half a turn.
   bool stays() const;

@@ -32,6 +32,41 @@ TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
   EXPECT_NE(cw.stays(), ccw.stays()) << "one direction of 1.25 turns takes it out, the other does not";
 }
 
+// The same loop on a candidate patient (docs/clinical-mechanics.md, session 42): the shipped
+// one with the contacts' coupling predictor (ContactParams::coupling_predictor: the colon and
+// the scope feel each other's move within the step) and the retroperitoneal colon held
+// firmer (attached lifters 5000 N/m per m, damped at half critical). On the shipped patient
+// the loop's stay stands on the contacts' lag: with the predictor alone the writhe of no
+// rotation ends at -0.47, past the half turn. Held firmer, the loop keeps a full turn under
+// withdrawal alone, and it shows what the clinic sees: the withdrawal the loop does not give
+// way to takes the tip back (21 cm along the colon's rest length for the 15 cm withdrawn, the
+// sigmoid stretched behind it), while the turn that undoes the loop keeps the tip where it
+// was (it even advances, 3 cm). Measured: writhe at 12 s none -0.995, clockwise -1.032, anticlockwise
+// +0.419 (the straightened path's writhe); tip back 0.210, 0.216, -0.032 m. With the attached
+// lifters at the shipped 1000 N/m per m it fails (no rotation: -0.47). The lag alone at 5000
+// gives the same pattern (none -1.00, anticlockwise +0.42: trainer_patient_map).
+TEST(LoopMechanics, HeldFirmerTheTurnThatUndoesTheLoopKeepsTheTip) {
+  Parameters patient = loadParameters(findScenario("sigmoid_untwist").params_path);
+  patient.contact.coupling_predictor = true;
+  MesenteryClass& attached = patient.colon.mesentery.at("attached");
+  attached.stiffness_N_per_m2 = 5000;
+  attached.damping_Ns_per_m2 = 20 * std::sqrt(5.0);  // as the shipped 20 at 1000: half critical
+  const HookedUntwist none = hookedUntwist(patient, 0.0), cw = hookedUntwist(patient, 1.0),
+                      ccw = hookedUntwist(patient, -1.0);
+  std::printf("writhe at 2 s %.3f; at 12 s (tip back): none %.3f (%.3f m), clockwise %.3f (%.3f m), anticlockwise %.3f "
+              "(%.3f m)\n",
+              none.writhe_start, none.writhe_end, none.tip_back_m, cw.writhe_end, cw.tip_back_m, ccw.writhe_end,
+              ccw.tip_back_m);
+  ASSERT_GT(std::abs(none.writhe_start), 0.8) << "an alpha loop to begin with";
+  EXPECT_GT(std::abs(none.writhe_end), 0.8) << "withdrawal alone leaves the loop whole, not half spun out";
+  EXPECT_TRUE(none.stays());
+  ASSERT_NE(cw.stays(), ccw.stays()) << "one direction of 1.25 turns takes it out, the other does not";
+  const HookedUntwist& undoing = cw.stays() ? ccw : cw;
+  EXPECT_LT(undoing.tip_back_m, 0.08) << "undoing the loop keeps the hooked tip";
+  EXPECT_GT(none.tip_back_m, undoing.tip_back_m + 0.10) << "withdrawal alone takes the tip back instead";
+  EXPECT_EQ(none.limited_steps + cw.limited_steps + ccw.limited_steps, 0);
+}
+
 // Pleating (issue 21): the colon gathered onto the scope by a hooked withdrawal.
 // free_insertion's script to 30 s (the tip near the far end of the sigmoid), then the up knob
 // to 2.5 rad over 1 s and 15 cm withdrawn over 8 s, held 3 s. On a candidate patient: the
