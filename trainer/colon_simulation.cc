@@ -14,7 +14,14 @@ namespace colosim {
 
 Simulation::~Simulation() = default;
 
-double mesenteryStretch(const ColonModel& model, const ColonState& state) {
+Eigen::Matrix3Xd restingColon(const ColonModel& model) {
+  ColonState s = makeColonState(model);
+  const long steps = std::lround(kRestingSettle_s / kRestingStep_s);
+  for (long k = 0; k < steps; ++k) stepColon(model, s, kRestingStep_s);
+  return s.q;
+}
+
+double mesenteryStretch(const ColonModel& model, const ColonState& state, const Eigen::Matrix3Xd* resting_q) {
   const double g_m_per_s2 = model.gravity_m_per_s2.norm();
   if (!(g_m_per_s2 > 0)) return 0.0;
   // Measured after every step: the scratch is kept per thread, the classes compared once
@@ -25,9 +32,11 @@ double mesenteryStretch(const ColonModel& model, const ColonState& state) {
   d.resize(model.n);
   f.resize(model.n);
   force.resize(3, model.n);
-  // Lifter forces at the control points: F = K (q - q0), one coordinate at a time.
+  // Lifter forces at the control points beyond the resting ones: F = K (q - q_resting),
+  // one coordinate at a time.
+  const Eigen::Matrix3Xd& q_from = resting_q ? *resting_q : model.q_rest;
   for (int c = 0; c < 3; ++c) {
-    for (int i = 0; i < model.n; ++i) d[i] = state.q(c, i) - model.q_rest(c, i);
+    for (int i = 0; i < model.n; ++i) d[i] = state.q(c, i) - q_from(c, i);
     model.mesentery_K.multiply(d.data(), f.data());
     for (int i = 0; i < model.n; ++i) force(c, i) = f[i];
   }
@@ -55,6 +64,7 @@ ColonOnlySimulation::ColonOnlySimulation(const Scenario& scenario) : dt_s_(scena
   start.first_input = HandleInput();
   state_ = makeStartState(world, start).state.colon;
   model_ = std::move(world.colon);
+  resting_q_ = restingColon(model_);
   if (!scenario.script.empty()) last_input_ = scenario.script.front().input;
 }
 
@@ -70,7 +80,7 @@ Telemetry ColonOnlySimulation::telemetry() const {
   t.input = last_input_;
   t.tip_position_m = Vec3::Zero();  // no scope: the tip stays at the anus
   t.tip_to_caecum_m = state_.q.col(model_.n - 1).norm();
-  t.mesentery_stretch = mesenteryStretch(model_, state_);
+  t.mesentery_stretch = mesenteryStretch(model_, state_, &resting_q_);
   regionLengthRatios(model_, state_.q, t.region_length_ratio);
   t.colon_stretch = colonStretch(t.region_length_ratio);
   t.region_names = &model_.region_names;

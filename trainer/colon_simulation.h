@@ -12,14 +12,26 @@
 
 namespace colosim {
 
+/// The patient's resting colon [m]: the control points of the colon settled under its
+/// model's gravity from its rest shape, with the scope out and no hand on the abdomen
+/// (kRestingSettle_s of colon steps of kRestingStep_s). What the mesentery carries there is
+/// what it carries without pain (mesenteryStretch).
+constexpr double kRestingSettle_s = 2.0;   ///< [s] the free colon's slowest sag decays in ~0.3 s
+constexpr double kRestingStep_s = 2e-3;    ///< [s] the colon's implicit step; its settled state is the step's fixed point
+Eigen::Matrix3Xd restingColon(const ColonModel& model);
+
 /// Mesentery stretch of a colon state [-]: the largest over control points of the lifter
-/// force on the point, |(K (q - q0))_i| with K the mesentery stiffness matrix (eq. 4),
-/// over the weight the point carries, (M 1)_i g. It is the lifter force per unit length
-/// over the colon's weight per unit length: about 1 where the attachments just carry the
-/// hanging colon (Telemetry::mesentery_stretch). 0 without gravity. Points held only by
-/// the "pelvic" class (the extraperitoneal rectum, fixed in the pelvis, not on a
-/// mesentery: 20x stiffer, so a millimetre there would read as a large stretch) are left out.
-double mesenteryStretch(const ColonModel& model, const ColonState& state);
+/// force beyond the one the point's lifter has in the resting colon,
+/// |(K (q - q_resting))_i| with K the mesentery stiffness matrix (eq. 4), over the weight
+/// the point carries, (M 1)_i g. It is that force per unit length over the colon's weight
+/// per unit length: 0 in the resting patient, about 1 where a lifter carries its colon's
+/// weight again on top of what it carried at rest. Without `resting_q` the lifters' rest
+/// positions q0 take its place (the whole lifter force: about 1 where the attachments just
+/// carry the hanging colon, and several times that where a firm attachment carries a free
+/// region through the colon's tension). 0 without gravity. Points held only by the
+/// "pelvic" class (the extraperitoneal rectum, fixed in the pelvis, not on a mesentery:
+/// 20x stiffer, so a millimetre there would read as a large stretch) are left out.
+double mesenteryStretch(const ColonModel& model, const ColonState& state, const Eigen::Matrix3Xd* resting_q = nullptr);
 
 class ColonOnlySimulation : public Simulation {
  public:
@@ -44,6 +56,7 @@ class ColonOnlySimulation : public Simulation {
   ColonState state_;
   double dt_s_;
   HandleInput last_input_;
+  Eigen::Matrix3Xd resting_q_;  ///< restingColon(model_) [m]
 };
 
 /// A SimulationFactory building ColonOnlySimulation.

@@ -207,7 +207,7 @@ const std::map<std::string, std::string>& Scorer::units() {
       {"excessive_pressure_time_s", "s"},
       {"discomfort_index", "s (time integral of the colon's stretch above the threshold)"},
       {"discomfort_time_pct", "%"}, {"peak_colon_stretch", "- (present / rest length - 1, largest region)"},
-      {"peak_mesentery_stretch", "- (lifter load / colon weight)"}, {"mesentery_stretch_time_pct", "%"},
+      {"peak_mesentery_stretch", "- (lifter load beyond the resting colon's / colon weight)"}, {"mesentery_stretch_time_pct", "%"},
       {"loop_time_s", "s"}, {"max_loop_turns", "turns"},
       {"loop_writhe_max", "turns (writhe)"}, {"region_length_ratio_min", "- (present / rest length)"},
       {"insertion_at_caecum_m", "m"}, {"mucosa_visualised_pct", "%"},

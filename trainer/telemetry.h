@@ -25,11 +25,11 @@ struct Telemetry {
   /// location nearest the tip (the colon's rest length at the caecal pole; 0 outside).
   double tip_arclength_m = 0.0;
   /// Mesentery stretch, the discomfort source [-]: the largest, over the colon's control
-  /// points, of the mesentery lifter force on the point over the weight the point carries
-  /// (lifter force per unit length over weight per unit length; mesenteryStretch in
-  /// trainer/colon_simulation.h). About 1 where the attachments just carry the hanging
-  /// colon (up to ~3 at the flexures, which also carry the free segments); more where the
-  /// scope stretches them.
+  /// points, of the mesentery lifter force on the point beyond the one it has in the resting
+  /// patient (the colon settled under gravity, scope out: restingColon), over the weight the
+  /// point carries (per unit length over weight per unit length; mesenteryStretch in
+  /// trainer/colon_simulation.h). 0 at rest; 1 where a lifter carries its colon's weight
+  /// again on top of its resting load; more where the scope stretches it.
   double mesentery_stretch = 0.0;
   /// The colon pulled longer than it is at rest, the discomfort source [-]: the largest,
   /// over the anatomy's regions, of present/rest length - 1 (region_length_ratio below),

@@ -352,7 +352,11 @@ void WorldSimulation::measure() {
   const Vec3 tip = tipPosition(scope, s.scope);
   t.tip_position_m = tip;
   t.tip_to_caecum_m = (tip - s.colon.q.col(colon.n - 1)).norm();
-  t.mesentery_stretch = mesenteryStretch(colon, s.colon);
+  if (resting_q_.cols() != colon.n || (turn_start_s_ < 0 && colon.gravity_m_per_s2 != resting_gravity_)) {
+    resting_q_ = restingColon(colon);
+    resting_gravity_ = colon.gravity_m_per_s2;
+  }
+  t.mesentery_stretch = mesenteryStretch(colon, s.colon, &resting_q_);
   t.abdominal_pressure = assist_.abdominal_pressure;
   t.patient_position = position_;
   t.patient_turning = turn_start_s_ >= 0;

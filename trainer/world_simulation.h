@@ -130,6 +130,11 @@ class WorldSimulation : public Simulation {
   long writhe_step_ = -1;     ///< step (time / dt) at which loop_writhe_ was measured, -1: none
   double loop_writhe_ = 0.0;  ///< the last measured writhe [turns]
   std::vector<double> region_ratio_;  ///< scratch: storage of Telemetry::region_length_ratio [-]
+  /// The resting colon (restingColon) under resting_gravity_, against which the mesentery's
+  /// stretch is measured: made at the first measure and again once a turn of the patient
+  /// has ended (during a turn the one before it stays) [m].
+  Eigen::Matrix3Xd resting_q_;
+  Vec3 resting_gravity_ = Vec3::Zero();  ///< [m/s^2]
   std::vector<double> lumen_arc_;  ///< scratch of checkLumen: present arclength at each control point [m]
 };
 
