@@ -12,16 +12,17 @@
 
 namespace colosim {
 
+// How restingColon settles: 100 steps of 10 ms. The implicit step's fixed point is the static
+// equilibrium whatever the step, and its damping at 10 ms settles the free colon's sag within
+// the second. Measured on free_insertion's patient: a 1 ms step from it moves a point 4.9e-8 m
+// (2 s of 2 ms steps: 1.3e-10 m, ten times the cost; 0.5 s of 10 ms: 4.4e-7 m).
+constexpr double kRestingSettle_s = 1.0;  ///< [s]
+constexpr double kRestingStep_s = 1e-2;   ///< [s]
+
 /// The patient's resting colon [m]: the control points of the colon settled under its
 /// model's gravity from its rest shape, with the scope out and no hand on the abdomen
 /// (kRestingSettle_s of colon steps of kRestingStep_s). What the mesentery carries there is
 /// what it carries without pain (mesenteryStretch).
-/// 100 steps of 10 ms: the implicit step's fixed point is the static equilibrium whatever the
-/// step, and its damping at 10 ms settles the free colon's sag within the second. Measured on
-/// free_insertion's patient: a 1 ms step from it moves a point 4.9e-8 m (2 s of 2 ms steps:
-/// 1.3e-10 m, ten times the cost; 0.5 s of 10 ms: 4.4e-7 m).
-constexpr double kRestingSettle_s = 1.0;  ///< [s]
-constexpr double kRestingStep_s = 1e-2;   ///< [s]
 Eigen::Matrix3Xd restingColon(const ColonModel& model);
 
 /// Mesentery stretch of a colon state [-]: the largest over control points of the lifter
