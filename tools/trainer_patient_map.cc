@@ -1,4 +1,4 @@
-// trainer_patient_map PARAMS.json... [--withdraw-m M] [--withdraw-s S] [--abuse]
+// trainer_patient_map PARAMS.json... [--withdraw-m M] [--withdraw-s S] [--withdraw-turn RAD] [--abuse]
 //
 // Issue 21's two phenomena on candidate patients (docs/clinical-mechanics.md, session 29):
 // for each parameter file, one line with
@@ -7,7 +7,8 @@
 //     the largest handle torque; "pattern yes" when no rotation leaves the loop and exactly
 //     one direction takes it out (LoopMechanics.WithTheTipHookedOnlyOneRotationUndoesTheLoop);
 //     after each, how far the hooked tip slid back along the colon;
-//   - the hooked withdrawal (withdraw_m over withdraw_s; default 0.15 m over 8 s, the
+//   - the hooked withdrawal (withdraw_m over withdraw_s with the handle turned by
+//     withdraw_turn_rad; default 0.15 m over 8 s with a quarter turn clockwise, the
 //     Pleating test's): the sigmoid's present/rest length when the hook is set and its least,
 //     how far the tip slid back;
 //   - the steps in which a solver or contact limit engaged, in all four runs;
@@ -31,21 +32,23 @@
 int main(int argc, char** argv) {
   using namespace colosim;
   std::vector<std::string> files;
-  double withdraw_m = 0.15, withdraw_s = 8.0;
+  double withdraw_m = 0.15, withdraw_s = 8.0, withdraw_turn_rad = kHookedWithdrawalTurn_rad;
   bool abuse = false;
   CLI::App app{"issue 21's loop pattern and pleating on candidate patients"};
   app.add_option("params", files, "parameter files")->required()->check(CLI::ExistingFile);
   app.add_option("--withdraw-m", withdraw_m, "hooked withdrawal length [m]")->check(CLI::Range(0.0, 0.5));
   app.add_option("--withdraw-s", withdraw_s, "hooked withdrawal duration [s]")->check(CLI::Range(0.5, 60.0));
+  app.add_option("--withdraw-turn", withdraw_turn_rad, "the handle's turn during the hooked withdrawal, + clockwise [rad]")
+      ->check(CLI::Range(-10.0, 10.0));
   app.add_flag("--abuse", abuse, "also run extreme_all and 8 variants of its script");
   CLI11_PARSE(app, argc, argv);
   std::printf("hooked untwist: writhe at 12 s [turns], S = the loop stays, peak handle torque; hooked withdrawal of "
-              "%.2f m over %.1f s: sigmoid present/rest before -> least, tip back [m]\n",
-              withdraw_m, withdraw_s);
+              "%.2f m over %.1f s turning %.2f rad: sigmoid present/rest before -> least, tip back [m]\n",
+              withdraw_m, withdraw_s, withdraw_turn_rad);
   for (const std::string& f : files) {
     const Parameters p = loadParameters(f);
     const HookedUntwist none = hookedUntwist(p, 0.0), cw = hookedUntwist(p, 1.0), ccw = hookedUntwist(p, -1.0);
-    const HookedWithdrawal w = hookedWithdrawal(p, withdraw_m, withdraw_s);
+    const HookedWithdrawal w = hookedWithdrawal(p, withdraw_m, withdraw_s, withdraw_turn_rad);
     const bool pattern = none.stays() && cw.stays() != ccw.stays();
     auto mark = [](const HookedUntwist& u) { return u.stays() ? "S" : "-"; };
     std::printf("%s\n  start %+.2f | none %+.2f %s %.3f N m, tip back %.3f m | cw %+.2f %s %.3f N m, %.3f m | ccw %+.2f %s "

@@ -38,7 +38,7 @@ HookedUntwist hookedUntwist(const Parameters& params, double rotation_scale) {
   return o;
 }
 
-HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m, double withdraw_s) {
+HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m, double withdraw_s, double turn_rad) {
   Scenario sc = findScenario("free_insertion");
   const double t0 = 30.0;
   std::vector<Keyframe> script;
@@ -50,6 +50,7 @@ HookedWithdrawal hookedWithdrawal(const Parameters& params, double withdraw_m, d
   script.push_back(k);
   k.t_s = t0 + 1.0 + withdraw_s;
   k.input.insertion_m -= withdraw_m;
+  k.input.rotation_rad += turn_rad;
   script.push_back(k);
   k.t_s += 3.0;
   script.push_back(k);
