@@ -1,4 +1,5 @@
-// trainer_patient_map PARAMS.json... [--withdraw-m M] [--withdraw-s S] [--withdraw-turn RAD] [--abuse]
+// trainer_patient_map PARAMS.json... [--withdraw-m M] [--withdraw-s S] [--withdraw-turn RAD]
+//                     [--abuse [--abuse-anatomy FILE] [--scope-speed-limit V]]
 //
 // Issue 21's two phenomena on candidate patients (docs/clinical-mechanics.md, session 29):
 // for each parameter file, one line with
@@ -16,6 +17,9 @@
 //     measured (times x 0.8-1.2, knobs x 0.6-1; everythingAtOnce, trainer/clinical_manoeuvres.h): per run
 //     the limited steps, the steps out of the lumen, the deepest point and the largest track
 //     jump, and the sums (docs/hardening.md, session 29).
+//     --abuse-anatomy runs them in another anatomy file; --scope-speed-limit sets the scope's
+//     solver speed limit (ScopeParams::max_speed_m_per_s, 5 m/s) for them, to see whether a
+//     run's figures stand on that limit (docs/clinical-mechanics.md, session 43).
 // About 20 s of one core per file; --abuse adds about 10 s.
 #include <cstdio>
 #include <string>
@@ -34,6 +38,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> files;
   double withdraw_m = 0.15, withdraw_s = 8.0, withdraw_turn_rad = kHookedWithdrawalTurn_rad;
   bool abuse = false;
+  std::string abuse_anatomy;
+  double scope_speed_limit_m_per_s = 0;
   CLI::App app{"issue 21's loop pattern and pleating on candidate patients"};
   app.add_option("params", files, "parameter files")->required()->check(CLI::ExistingFile);
   app.add_option("--withdraw-m", withdraw_m, "hooked withdrawal length [m]")->check(CLI::Range(0.0, 0.5));
@@ -41,6 +47,11 @@ int main(int argc, char** argv) {
   app.add_option("--withdraw-turn", withdraw_turn_rad, "the handle's turn during the hooked withdrawal, + clockwise [rad]")
       ->check(CLI::Range(-10.0, 10.0));
   app.add_flag("--abuse", abuse, "also run extreme_all and 8 variants of its script");
+  app.add_option("--abuse-anatomy", abuse_anatomy, "the abuse runs' anatomy file (default: extreme_all's)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--scope-speed-limit", scope_speed_limit_m_per_s,
+                 "the scope's solver speed limit in the abuse runs [m/s] (default: the model's)")
+      ->check(CLI::Range(0.5, 1000.0));
   CLI11_PARSE(app, argc, argv);
   std::printf("hooked untwist: writhe at 12 s [turns], S = the loop stays, peak handle torque; hooked withdrawal of "
               "%.2f m over %.1f s turning %.2f rad: sigmoid present/rest before -> least, tip back [m]\n",
@@ -63,9 +74,15 @@ int main(int argc, char** argv) {
     const double variants[][2] = {{1.0, 1.0}, {0.8, 0.6}, {0.9, 0.8}, {0.9, 1.0}, {0.95, 0.9},
                                   {1.0, 0.8}, {1.05, 1.0}, {1.1, 0.8}, {1.2, 1.0}};
     long limited = 0, exits = 0;
+    Parameters ap = p;
+    if (scope_speed_limit_m_per_s > 0) ap.scope.max_speed_m_per_s = scope_speed_limit_m_per_s;
+    if (!abuse_anatomy.empty() || scope_speed_limit_m_per_s > 0)
+      std::printf("  abuse runs: anatomy %s, scope speed limit %.2f m/s\n",
+                  abuse_anatomy.empty() ? "extreme_all's" : abuse_anatomy.c_str(), ap.scope.max_speed_m_per_s);
     for (const auto& v : variants) {
-      const Scenario sc = everythingAtOnce(v[0], v[1]);
-      WorldSimulation sim(sc, p);
+      Scenario sc = everythingAtOnce(v[0], v[1]);
+      if (!abuse_anatomy.empty()) sc.anatomy_path = abuse_anatomy;
+      WorldSimulation sim(sc, ap);
       const RunResult r = runScenario(sc, sim, nullptr);
       const long l = r.scores["solver_limited_steps"].get<long>(), e = r.scores["lumen_exit_steps"].get<long>();
       limited += l;
