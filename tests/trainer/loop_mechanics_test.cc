@@ -34,8 +34,8 @@ namespace {
 // tip back 0.210, 0.215, -0.031 m.
 TEST(LoopMechanics, WithTheTipHookedOnlyOneRotationUndoesTheLoop) {
   const Parameters patient = loadParameters(findScenario("sigmoid_untwist").params_path);
-  const HookedUntwist none = hookedUntwist(patient, 0.0), cw = hookedUntwist(patient, 1.0),
-                      ccw = hookedUntwist(patient, -1.0);
+  const HookedUntwist none = hookedUntwist(patient, 0.0), cw = hookedUntwist(patient, -1.0),
+                      ccw = hookedUntwist(patient, 1.0);  // the shipped expert turns anticlockwise
   std::printf("writhe at 2 s %.3f; at 12 s (tip back): none %.3f (%.3f m), clockwise %.3f (%.3f m), anticlockwise %.3f "
               "(%.3f m)\n",
               none.writhe_start, none.writhe_end, none.tip_back_m, cw.writhe_end, cw.tip_back_m, ccw.writhe_end,
