@@ -182,7 +182,7 @@ TEST(ExtremeInputs, KnobsSwungAndSlammedEndToEnd) {
 // faster than a step allows. Since session 43 (the retroperitoneal colon held firmer, the
 // contacts' coupling predictor) the withdrawal can snap the coil the push gathered: the
 // distal 20-30 cm slide back at 4-5 m/s together and the tip asks up to 5.8 m/s of the
-// scope's 5 m/s speed limit, which trims it (5 and 2 steps in the variants 0.9/0.8 and
+// scope's 5 m/s speed limit, which trims it (6 and 2 steps in the variants 0.9/0.8 and
 // 0.9/1.0). The runs must not stand on that limit: with it lifted to 8 m/s every run meets
 // no limit at all and stays in the lumen as deep as with it (docs/clinical-mechanics.md,
 // session 43). The shipped script meets no limit either way.
