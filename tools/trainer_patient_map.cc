@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
               withdraw_m, withdraw_s, withdraw_turn_rad);
   for (const std::string& f : files) {
     const Parameters p = loadParameters(f);
-    const HookedUntwist none = hookedUntwist(p, 0.0), cw = hookedUntwist(p, 1.0), ccw = hookedUntwist(p, -1.0);
+    const HookedUntwist none = hookedUntwist(p, 0.0), cw = hookedUntwist(p, -1.0), ccw = hookedUntwist(p, 1.0);
     const HookedWithdrawal w = hookedWithdrawal(p, withdraw_m, withdraw_s, withdraw_turn_rad);
     const bool pattern = none.stays() && cw.stays() != ccw.stays();
     auto mark = [](const HookedUntwist& u) { return u.stays() ? "S" : "-"; };

@@ -3,7 +3,9 @@
 // From the start of each scenario given (default sigmoid_untwist; sigmoid_push starts from
 // the same alpha loop and scores from the same 2 s, so its family is the same), runs a family of N expert-like and N novice-like scripted sessions, the
 // same intent with perturbed timing, depth and rotation, drawn from the seed:
-//   expert: from 2 s, withdraw 12-18 cm over 6-10 s while turning clockwise 1.0-1.5 turns,
+//   expert: from 2 s, withdraw 12-18 cm over 6-10 s while turning 1.0-1.5 turns the way the
+//           shipped expert untwist turns (sigmoid_untwist's script: anticlockwise, for its
+//           reverse alpha loop),
 //           hold 1.5-2.5 s, then advance 10-14 cm with the rotation held to the end (28 s),
 //           steering the tip at the lumen with the knobs throughout, as the shipped expert
 //           untwist does (runWithLumenSteering, trainer/lumen_following.h);
@@ -52,11 +54,11 @@ Keyframe frame(double t_s, double insertion_m, double rotation_rad) {
 // The scenario's start (its first keyframes up to the scored start, unchanged) and then one
 // member's manoeuvre. u() draws uniformly in [0, 1).
 template <class Uniform>
-std::vector<Keyframe> expertScript(const Scenario& sc, double start_s, double end_s, Uniform& u) {
+std::vector<Keyframe> expertScript(const Scenario& sc, double start_s, double end_s, double way, Uniform& u) {
   const double depth0_m = scriptedInput(sc.script, start_s).insertion_m;
   const double withdraw_m = 0.12 + 0.06 * u(), withdraw_s = 6 + 4 * u();
   const double turns = 1.0 + 0.5 * u(), hold_s = 1.5 + u(), advance_m = 0.10 + 0.04 * u();
-  const double out_m = depth0_m - withdraw_m, rot_rad = turns * kTurn_rad;
+  const double out_m = depth0_m - withdraw_m, rot_rad = way * turns * kTurn_rad;
   return {frame(0, depth0_m, 0), frame(start_s, depth0_m, 0), frame(start_s + withdraw_s, out_m, rot_rad),
           frame(start_s + withdraw_s + hold_s, out_m, rot_rad), frame(end_s, out_m + advance_m, rot_rad)};
 }
@@ -105,6 +107,9 @@ int main(int argc, char** argv) {
   const std::vector<std::string> shown{"loop_time_s",         "peak_handle_force_N", "discomfort_index",
                                        "discomfort_time_pct", "redout_time_s",       "lumen_visible_pct"};
   nlohmann::json out{{"seed", seed}, {"members", members}, {"scenarios", nlohmann::json::object()}};
+  // The way the shipped expert untwist turns by its end: +1 clockwise, -1 anticlockwise.
+  const Scenario untwist = findScenario("sigmoid_untwist");
+  const double way = scriptedInput(untwist.script, untwist.duration_s).rotation_rad < 0 ? -1.0 : 1.0;
   for (const std::string& name : scenarios) {
     const Scenario sc = findScenario(name);
     const double start_s = sc.scoring.start_s, end_s = sc.duration_s;
@@ -112,7 +117,7 @@ int main(int argc, char** argv) {
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
     auto u = [&] { return uniform(rng); };
     std::vector<Member> family;
-    for (int i = 0; i < members; ++i) family.push_back({"expert", expertScript(sc, start_s, end_s, u), {}});
+    for (int i = 0; i < members; ++i) family.push_back({"expert", expertScript(sc, start_s, end_s, way, u), {}});
     for (int i = 0; i < members; ++i) family.push_back({"novice", noviceScript(sc, start_s, end_s, u), {}});
     nlohmann::json sessions = nlohmann::json::array();
     if (!json) {

@@ -12,8 +12,8 @@ namespace colosim {
 
 /// `sigmoid_untwist`'s loop with the tip hooked (the up knob at 2.5 rad from the start, the
 /// script's steering replaced) and its 15 cm withdrawal over 2-10 s, the script's rotation
-/// scaled by rotation_scale (1: the shipped clockwise 1.25 turns; 0: none; -1: the same
-/// anticlockwise); 12 s.
+/// scaled by rotation_scale (1: the shipped expert's 1.25 turns, anticlockwise; 0: none; -1:
+/// the same clockwise); 12 s.
 struct HookedUntwist {
   double writhe_start = 0;    ///< the loop's writhe at the end of the set-up (2 s) [turns]
   double writhe_end = 0;      ///< 10 s after the withdrawal began (12 s) [turns]

@@ -175,12 +175,17 @@ TEST(ExtremeInputs, KnobsSwungAndSlammedEndToEnd) {
 // of the loop it leaves, out of the rectum into the sigmoid beside it: a track jump of a
 // third of a metre. The threading contacts (core/colon_threading.h) hold every control
 // point between two slices around the scope, and each variant stays in the lumen.
-// No solver limit engages in any of them. Session 27 allowed one step per run: a slice's
-// interaction point closing on the wall at 3.8 m/s, 3.7 mm in, asked 29 N of the 20 N point
-// limit in the shipped script, and 4 of 9 runs (the shipped script and eight variants) met
-// the limiter once. Since session 28 the threading stop (core/colon_threading.h) holds the
-// control points that closed on the scope faster than a step allows, and the same 9 runs
-// meet it in no step.
+// Session 27 allowed one step per run: a slice's interaction point closing on the wall at
+// 3.8 m/s, 3.7 mm in, asked 29 N of the 20 N point limit in the shipped script, and 4 of 9
+// runs (the shipped script and eight variants) met the limiter once. Since session 28 the
+// threading stop (core/colon_threading.h) holds the control points that closed on the scope
+// faster than a step allows. Since session 43 (the retroperitoneal colon held firmer, the
+// contacts' coupling predictor) the withdrawal can snap the coil the push gathered: the
+// distal 20-30 cm slide back at 4-5 m/s together and the tip asks up to 5.8 m/s of the
+// scope's 5 m/s speed limit, which trims it (6 and 2 steps in the variants 0.9/0.8 and
+// 0.9/1.0). The runs must not stand on that limit: with it lifted to 8 m/s every run meets
+// no limit at all and stays in the lumen as deep as with it (docs/clinical-mechanics.md,
+// session 43). The shipped script meets no limit either way.
 TEST(ExtremeInputs, VariantsOfEverythingAtOnceStayInTheLumen) {
   const ExtremeRun shipped = runExtreme("extreme_all");
   expectSurvived(shipped);
@@ -188,10 +193,16 @@ TEST(ExtremeInputs, VariantsOfEverythingAtOnceStayInTheLumen) {
   EXPECT_EQ(shipped.scores["solver_limited_steps"].get<long>(), 0);
   for (const auto& [time_scale, knob_scale] : {std::pair{0.9, 0.8}, std::pair{1.1, 0.8}, std::pair{0.9, 1.0}}) {
     SCOPED_TRACE("time x " + std::to_string(time_scale) + ", knobs x " + std::to_string(knob_scale));
-    const ExtremeRun r = runScenario(everythingAtOnce(time_scale, knob_scale), "extreme_all variant");
+    const Scenario sc = everythingAtOnce(time_scale, knob_scale);
+    const ExtremeRun r = runScenario(sc, "extreme_all variant");
     expectSurvived(r);
     expectInTheLumen(r);
-    EXPECT_EQ(r.scores["solver_limited_steps"].get<long>(), 0);
+    Parameters lifted = scenarioParameters(sc);
+    lifted.scope.max_speed_m_per_s = 8.0;
+    const ExtremeRun free = runScenario(sc, "extreme_all variant, the scope's speed limit at 8 m/s", "", &lifted);
+    expectSurvived(free);
+    expectInTheLumen(free);
+    EXPECT_EQ(free.scores["solver_limited_steps"].get<long>(), 0) << "beyond trimming the snap, no limit engages";
   }
 }
 
@@ -201,7 +212,7 @@ TEST(ExtremeInputs, WithoutThreadingAVariantOfEverythingAtOnceTunnels) {
   params["contact"]["threading_stiffness"]["value"] = 0.0;
   const std::string path = dir.file("no_threading.json");
   std::ofstream(path) << params.dump();
-  Scenario sc = everythingAtOnce(0.9, 0.8);
+  Scenario sc = everythingAtOnce(1.1, 0.8);  // (0.9, 0.8) until session 43; on the firmer patient it stays in
   useParameterFile(sc, path);
   const ExtremeRun r = runScenario(sc, "extreme_all variant, no threading");
   expectSurvived(r);
@@ -271,21 +282,23 @@ void expectReplaysBitIdentically(const ReplayPlan& plan, const ExtremeRun& r, lo
   EXPECT_EQ(rr.scores["solver_limited_steps"], limited_steps);
 }
 
-// Everything at once pushed and pulled at 1.67 m/s (its script 0.6 times as long) asks for
-// more than the solves are trusted with (contact forces above 60 N a point): the limiter
-// engages, the session says so in event lines, the scores count it, the state stays
-// finite, and the recording replays bit-identically. (The knob slams alone did until the
-// wires gave way, ScopeParams::knob_moment_limit_Nm; the shipped everything at once did
-// until the colon was held round the scope between slices, core/colon_threading.h; at
-// 1.25 m/s it did, 8 steps from 1.935 s, until the point limit went from 20 to 60 N in
-// session 29.) The limiter first engages at 0.904 s: a wall point asks 66.6 N. The run is
+// Everything at once pushed and pulled at 2 m/s (its script 0.5 times as long) asks for
+// more than the solves are trusted with: the limiter engages, the session says so in event
+// lines, the scores count it, the state stays finite, and the recording replays
+// bit-identically. (The knob slams alone did until the wires gave way,
+// ScopeParams::knob_moment_limit_Nm; the shipped everything at once did until the colon was
+// held round the scope between slices, core/colon_threading.h; at 1.25 m/s it did, 8 steps
+// from 1.935 s, until the point limit went from 20 to 60 N in session 29; at 1.67 m/s it did,
+// a wall point asking 66.6 N at 0.904 s, until the patient of session 43, whose firmer
+// fixation keeps the coil out of that corner.) Measured: 10 steps in which the scope's
+// segments ask up to 5.8 m/s of the 5 m/s speed limit, the deepest point 4.7 mm. The run is
 // cut at 1.0 s for its cost under the sanitizers (scripts/sanitize).
 TEST(ExtremeInputs, LimiterEngagesIsRecordedAndReplays) {
   test::TempDir dir;
   const std::string path = dir.file("all.jsonl");
-  Scenario sc = everythingAtOnce(0.6, 1.0);
+  Scenario sc = everythingAtOnce(0.5, 1.0);
   sc.duration_s = 1.0;
-  const ExtremeRun r = runScenario(sc, "extreme_all at 1.67 m/s, its first 1.0 s", path);
+  const ExtremeRun r = runScenario(sc, "extreme_all at 2 m/s, its first 1.0 s", path);
   expectSurvived(r);
   // In the lumen, but a point whose force the limiter held lies beyond the 4.84 mm at
   // which the wall and its backing give the 60 N limit (measured: 5.4 mm at the deepest),
@@ -379,35 +392,33 @@ TEST(ExtremeInputs, JammedAgainstStickyWallsTheGripSlipsIsRecordedAndReplays) {
   expectReplaysBitIdentically(plan, r, limited_steps);
 }
 
+// The contacts' coupling (ContactParams::coupling_predictor) on the firmer patient of
+// session 43: with the predictor, as shipped, everything at once at 1.67 m/s (its first
+// second) stays in the lumen; with the lag (each body feels the other's move a step late, as
+// before session 43) the scope leaves it (measured: 112 exit steps, 5.4 mm deep, the
+// limiter in 34 steps). Before the predictor was shipped this test checked the reverse
+// worry, that the predictor (unlimited, it once curled the slammed bending section into a
+// ring and left the lumen for 81 steps) keeps this run and the jam in: docs/numerics.md,
+// "The predictor's stability".
+TEST(ExtremeInputs, WithTheLagAVariantOfEverythingAtOnceLeavesTheLumen) {
+  Scenario all = everythingAtOnce(0.6, 1.0);
+  all.duration_s = 1.0;
+  Parameters p = scenarioParameters(all);
+  ASSERT_TRUE(p.contact.coupling_predictor);
+  const ExtremeRun predicted = runScenario(all, all.name + " with the coupling predictor", "", &p);
+  expectSurvived(predicted);
+  expectInTheLumen(predicted);
+  p.contact.coupling_predictor = false;
+  const ExtremeRun lagged = runScenario(all, all.name + " with the contacts' lag", "", &p);
+  expectSurvived(lagged);
+  EXPECT_GT(lagged.scores["lumen_exit_steps"].get<long>(), 20);
+}
+
 // A clinical-pace insertion never reaches a limit: the first 16 s of free_insertion (the
 // rectum and the rectosigmoid junction, steering with both knobs). (sigmoid_push and
 // sigmoid_untwist start from a threaded alpha loop whose bent scope springs back in the
 // first steps; that release is limited for 2 steps and recorded, which is what the
 // limiter is for.)
-// The contacts' coupling predictor (ContactParams::coupling_predictor, off in the shipped
-// patient) on the two abuse runs it once failed. Unlimited, at 1 ms, and on the threading
-// contacts too, it curled the slammed bending section into a ring (joints at up to 114
-// degrees) and left the lumen for 81 steps of the limiter run, 7.2 mm deep; unlimited on the
-// wall contacts alone, 2 steps, 5.3 mm, and the jam 5.6 mm deep; limited with plain masses,
-// the jam left it for 4 steps at the anus, 7.9 mm deep (docs/numerics.md, "The predictor's
-// stability"). As landed, both stay in, as every step of 0.5 ms or less does with either
-// coupling. Measured: 0 exits, 4.5 mm and 3.6 mm at the deepest.
-TEST(ExtremeInputs, WithTheCouplingPredictorTheAbuseRunsStayInTheLumen) {
-  Scenario all = everythingAtOnce(0.6, 1.0);
-  all.duration_s = 1.0;
-  const Scenario jam = findScenario(test::asset("scenarios/extreme/extreme_jam.json"));
-  for (const Scenario* sc : {static_cast<const Scenario*>(&all), &jam}) {
-    Parameters p = scenarioParameters(*sc);  // the file and the scenario's overrides (the jam's sticky walls)
-    ASSERT_FALSE(p.contact.coupling_predictor);
-    p.contact.coupling_predictor = true;
-    const ExtremeRun r = runScenario(*sc, sc->name + " with the coupling predictor", "", &p);
-    expectSurvived(r);
-    EXPECT_EQ(r.scores["lumen_exit_steps"].get<long>(), 0) << sc->name;
-    EXPECT_LT(r.scores["max_track_jump_m"].get<double>(), 0.03) << sc->name;
-    EXPECT_LT(r.scores["max_wall_penetration_m"].get<double>(), 0.005) << sc->name;
-  }
-}
-
 TEST(ExtremeInputs, ClinicalPaceNeverEngagesTheLimiter) {
   Scenario sc = findScenario("free_insertion");
   WorldSimulation sim(sc);

@@ -78,10 +78,10 @@ TEST(ScenarioRuns, SigmoidUntwistLoopIsThereEarlyAndGoneAtTheEnd) {
   const ScenarioRun& r = runOnce("sigmoid_untwist");
   // The start state's alpha loop stands through the set-up (0-2 s), measured on the
   // simulated scope shape. (On the one patient of session 9, the rectum held in the pelvis
-  // and the colon's bending, the clockwise withdrawal takes it out in its first 0.7 s: the
-  // first second of the manoeuvre is no longer asked for.)
+  // and the colon's bending, the withdrawal takes it out in its first 0.7 s: the first
+  // second of the manoeuvre is no longer asked for.)
   EXPECT_GE(minLoop(r, 0.0, 2.0), 1.0);
-  // After the clockwise withdrawal and through the advance (the last 10 s): no crossing.
+  // After the turning withdrawal and through the advance (the last 10 s): no crossing.
   EXPECT_EQ(maxLoop(r, 18.0, 28.0), 0.0);
   EXPECT_EQ(r.loop_turns.back(), 0.0);
 }
