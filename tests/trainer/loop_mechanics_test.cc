@@ -85,6 +85,9 @@ TEST(Pleating, AHookedWithdrawalGathersTheSigmoidOntoTheScope) {
   EXPECT_LT(folds.sigmoid_least, 0.80) << "the issue's pleating: below 80 % of the sigmoid's rest length";
 }
 
+// The loop's writhe is measured every 10 ms and held in between (it cost 15 % of a run at
+// every step): on the shipped untwist it changes only at multiples of 10 steps, and a run
+// restarted reads a fresh value at once.
 TEST(LoopMechanics, TheWritheIsSampledEveryTenSteps) {
   const Scenario sc = findScenario("sigmoid_untwist");
   WorldSimulation sim(sc);
