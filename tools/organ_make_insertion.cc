@@ -3,6 +3,8 @@
 // EFFECT "none" hides nothing; VALUE "drawn" draws it (and the protocol) as the tests do. CYCLES > 0: insert / withdraw cycles (amplitude and start depth
 // drawn from the seed unless given); hHOLDS (e.g. h2): that many push-and-hold stages (AMPLITUDE_M: the step). Made at the parameter file's resolution (0.015 m),
 // twice as fine as the identification's search (0.03 m): data the search's model did not make.
+// DT=S makes it with that time step [s] instead of the replays' 1 ms (0.00025: a step the
+// replays do not take, closer to the time-converged motion, as a recording of the world is).
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -28,7 +30,14 @@ int main(int argc, char** argv) {
     s.start_insertion_m = std::atof(argv[8]);
   }
   if (effect != "none" && value != "drawn") s.effect = effect, s.value = std::atof(argv[3]);
-  const ReplaySetup setup = makeReplaySetup(findScenario(s.scenario));
+  ReplaySetup setup = makeReplaySetup(findScenario(s.scenario));
+  if (const char* dt = std::getenv("DT")) {
+    setup.dt_s = std::atof(dt);
+    if (!(setup.dt_s >= 1e-5 && setup.dt_s <= 1e-2)) {
+      std::fprintf(stderr, "DT must be within [1e-5, 1e-2] s\n");
+      return 2;
+    }
+  }
   const InsertionRecording r = makeSyntheticInsertion(setup, s);
   writeInsertionRecording(argv[1], r);
   return 0;

@@ -5,7 +5,7 @@
 // a hold, a quick push, a hold, a withdrawal; rotation wiggle, both knobs).
 //   organ_trials [--seeds N] [--first-seed S] [--duration S] [--effects none,wall_friction,...]
 //                [--no-mismatch] [--search-judges-rounds] [--search-at-data-step] [--refine-every-leader]
-//                [--no-guessing] [--coupling-predictor]
+//                [--no-guessing] [--coupling-predictor | --coupling-lag]
 //                [--search-spacing M] [--data-spacing M]
 //                [--threads T] [--verbose] [--report DIR]
 // prints one line per case as it ends (hidden, named, magnitudes, held-out gain, RMSE over
@@ -17,8 +17,9 @@
 // parameter file's (which the identification's refinement uses): 0.0075 m makes data finer
 // than any model the identification replays, as a real colon is. --report DIR
 // writes the table as a heat map (confusion.png, gnuplot), its data, the text and every case
-// as JSON (identify.json). --coupling-predictor makes the data and every replay with the
-// contacts' coupling predictor (ContactParams::coupling_predictor, docs/numerics.md).
+// as JSON (identify.json). The data and every replay couple the contacts as the parameter
+// file says (ContactParams::coupling_predictor, docs/numerics.md: the predictor since
+// session 43); --coupling-predictor and --coupling-lag make them all use one or the other.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -65,7 +66,7 @@ int main(int argc, char** argv) {
   bool step_with_spacing = true;  // the search's time step scaled with its spacing
   bool choice_first = true;       // the search's choice refined first, the other leaders when needed
   bool guessing = true;           // a free thread runs the next refinement stage's likely replays
-  bool predictor = false;         // the contacts' coupling predictor in the data and the replays
+  int predictor = -1;             // the contacts' coupling predictor in the data and the replays: 1 on, 0 off, -1 the file's
   double search_spacing_m = 0.03;  // [m]; the data's (0.015 m): no coarse search
   double data_spacing_m = 0;       // [m]; 0: the parameter file's
   std::string report;  // folder for --report; empty: none
@@ -89,7 +90,8 @@ int main(int argc, char** argv) {
     else if (a == "--search-at-data-step") step_with_spacing = false;
     else if (a == "--refine-every-leader") choice_first = false;
     else if (a == "--no-guessing") guessing = false;
-    else if (a == "--coupling-predictor") predictor = true;
+    else if (a == "--coupling-predictor") predictor = 1;
+    else if (a == "--coupling-lag") predictor = 0;
     else if (a == "--verbose") verbose = true;
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--search-spacing") search_spacing_m = std::atof(next().c_str());
@@ -98,7 +100,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: %s [--seeds N] [--first-seed S] [--duration S] [--effects none,EFFECT,...] [--no-mismatch] "
-                   "[--search-judges-rounds] [--search-at-data-step] [--refine-every-leader] [--no-guessing] [--coupling-predictor] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
+                   "[--search-judges-rounds] [--search-at-data-step] [--refine-every-leader] [--no-guessing] [--coupling-predictor | --coupling-lag] [--search-spacing M] [--data-spacing M] [--threads T] [--verbose] [--report DIR]\n",
                    argv[0]);
       return 2;
     }
@@ -118,9 +120,9 @@ int main(int argc, char** argv) {
   }
 
   ReplaySetup fine = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
-  fine.params.contact.coupling_predictor = predictor;
+  if (predictor >= 0) fine.params.contact.coupling_predictor = predictor == 1;
   ReplaySetup data = data_spacing_m > 0 ? makeReplaySetup(fine.scenario, data_spacing_m) : fine;
-  data.params.contact.coupling_predictor = predictor;
+  if (predictor >= 0) data.params.contact.coupling_predictor = predictor == 1;
   InsertionIdentifyOptions opt;
   opt.threads = threads;
   opt.mismatch_term = mismatch;
@@ -133,7 +135,8 @@ int main(int argc, char** argv) {
               seeds, first_seed, duration_s, data.params.colon.control_point_spacing_m,
               fine.params.colon.control_point_spacing_m, opt.search_spacing_m,
               mismatch ? "mismatch term on" : "mismatch term OFF");
-  if (predictor) std::printf("contacts' coupling predictor on, in the data and the replays\n");
+  std::printf("contacts' coupling: %s, in the data and the replays%s\n",
+              fine.params.contact.coupling_predictor ? "the predictor" : "the lag", predictor >= 0 ? "" : " (the parameter file's)");
   std::fflush(stdout);
   // confusion[hidden][named first]
   std::map<std::string, std::map<std::string, int>> confusion;
