@@ -17,15 +17,16 @@
 // parameter file's (which the identification's refinement uses): 0.0075 m makes data finer
 // than any model the identification replays, as a real colon is. --report DIR
 // writes the table as a heat map (confusion.png, gnuplot), its data, the text and every case
-// as JSON (identify.json). The data and every replay couple the contacts as the parameter
-// file says (ContactParams::coupling_predictor, docs/numerics.md: the predictor since
-// session 43); --coupling-predictor and --coupling-lag make them all use one or the other.
+// as JSON (identify.json). The data and every replay couple the contacts as the bench
+// specimen's parameter file says (ContactParams::coupling_predictor, docs/numerics.md:
+// paper.json lags); --coupling-predictor and --coupling-lag make them all use one or the other.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -66,7 +67,7 @@ int main(int argc, char** argv) {
   bool step_with_spacing = true;  // the search's time step scaled with its spacing
   bool choice_first = true;       // the search's choice refined first, the other leaders when needed
   bool guessing = true;           // a free thread runs the next refinement stage's likely replays
-  int predictor = -1;             // the contacts' coupling predictor in the data and the replays: 1 on, 0 off, -1 the file's
+  std::optional<bool> predictor;  // the contacts' coupling predictor in the data and the replays; unset: the file's
   double search_spacing_m = 0.03;  // [m]; the data's (0.015 m): no coarse search
   double data_spacing_m = 0;       // [m]; 0: the parameter file's
   std::string report;  // folder for --report; empty: none
@@ -90,8 +91,8 @@ int main(int argc, char** argv) {
     else if (a == "--search-at-data-step") step_with_spacing = false;
     else if (a == "--refine-every-leader") choice_first = false;
     else if (a == "--no-guessing") guessing = false;
-    else if (a == "--coupling-predictor") predictor = 1;
-    else if (a == "--coupling-lag") predictor = 0;
+    else if (a == "--coupling-predictor") predictor = true;
+    else if (a == "--coupling-lag") predictor = false;
     else if (a == "--verbose") verbose = true;
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--search-spacing") search_spacing_m = std::atof(next().c_str());
@@ -120,9 +121,9 @@ int main(int argc, char** argv) {
   }
 
   ReplaySetup fine = makeReplaySetup(findScenario("free_insertion_attached_rectum"));
-  if (predictor >= 0) fine.params.contact.coupling_predictor = predictor == 1;
+  if (predictor) fine.params.contact.coupling_predictor = *predictor;
   ReplaySetup data = data_spacing_m > 0 ? makeReplaySetup(fine.scenario, data_spacing_m) : fine;
-  if (predictor >= 0) data.params.contact.coupling_predictor = predictor == 1;
+  if (predictor) data.params.contact.coupling_predictor = *predictor;
   InsertionIdentifyOptions opt;
   opt.threads = threads;
   opt.mismatch_term = mismatch;
@@ -136,7 +137,7 @@ int main(int argc, char** argv) {
               fine.params.colon.control_point_spacing_m, opt.search_spacing_m,
               mismatch ? "mismatch term on" : "mismatch term OFF");
   std::printf("contacts' coupling: %s, in the data and the replays%s\n",
-              fine.params.contact.coupling_predictor ? "the predictor" : "the lag", predictor >= 0 ? "" : " (the parameter file's)");
+              fine.params.contact.coupling_predictor ? "the predictor" : "the lag", predictor ? "" : " (the parameter file's)");
   std::fflush(stdout);
   // confusion[hidden][named first]
   std::map<std::string, std::map<std::string, int>> confusion;
