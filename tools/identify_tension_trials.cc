@@ -1,7 +1,7 @@
 // Hidden-effect trials of the tension identification (issue 17, docs/identification-trials.md):
 //
 //   identify_tension_trials [--seeds N] [--first-seed S] [--threads T]
-//                           [--forms other|own|harder] [--json] [--report DIR]
+//                           [--forms other|own|harder] [--noise-free] [--json] [--report DIR]
 //
 // For each class (no effect, each single effect, every pair: 11 classes) and each of N seeds
 // it draws a test from the independent bench of identify/tension/trial_bench.h (other forms
@@ -13,6 +13,8 @@
 // effect), the parameter errors where the forms coincide, with --forms harder the cases named
 // right by hidden form, and the time per case. --json prints one
 // object instead; --report DIR writes confusion.png (gnuplot) with its data and the text.
+// --noise-free draws the same tests without the sensor's white and coloured noise (its offset
+// and quantisation stay): what the identification gets wrong there is not the noise's doing.
 // Cases run on T threads (default 2), each identification on one: the output does not
 // depend on T (timing aside).
 #include <algorithm>
@@ -132,7 +134,7 @@ int main(int argc, char** argv) {
   int seeds = 100, threads = 2;
   uint64_t first_seed = 1;
   std::string forms_name = "other", report;
-  bool json = false;
+  bool json = false, noise_free = false;
   app.add_option("--seeds", seeds, "seeds per class")->check(CLI::Range(1, 100000));
   app.add_option("--first-seed", first_seed, "first seed (seeds first-seed ... first-seed + N - 1)");
   app.add_option("--threads", threads, "cases run at once")->check(CLI::Range(1, 64));
@@ -140,6 +142,8 @@ int main(int argc, char** argv) {
                  "forms of the hidden effects: other (the first forms not colosim's laws), own, or harder "
                  "(forms no law of colosim has, drawn per seed)")
       ->check(CLI::IsMember({"other", "own", "harder"}));
+  app.add_flag("--noise-free", noise_free,
+               "the same tests without the sensor's white and coloured noise (offset and quantisation kept)");
   app.add_flag("--json", json, "print one JSON object");
   app.add_option("--report", report, "write confusion.png, its data and the text into this folder");
   CLI11_PARSE(app, argc, argv);
@@ -157,7 +161,8 @@ int main(int argc, char** argv) {
     o.hidden = static_cast<int>(i / seeds);
     // The same seeds in every class: the same protocols and noise, other effects.
     o.seed = first_seed + i % seeds;
-    const TrialSpec spec = drawTrialSpec(o.seed, cls[o.hidden], forms);
+    TrialSpec spec = drawTrialSpec(o.seed, cls[o.hidden], forms);
+    if (noise_free) spec.white_sd_N = spec.coloured_sd_N = 0;
     const TensionTest test = generateTrialTest(spec);
     o.bench = {{"protocol", spec.protocol}, {"actuator_tau_s", spec.actuator_tau_s},
                {"sample_rate_hz", spec.sample_rate_hz}, {"white_sd_N", spec.white_sd_N},
@@ -221,9 +226,10 @@ int main(int argc, char** argv) {
 
   std::string text;
   char line[512];
-  std::snprintf(line, sizeof line, "Tension identification trials: %d seeds per class (%llu..%llu), %s forms, %zu cases\n",
+  std::snprintf(line, sizeof line, "Tension identification trials: %d seeds per class (%llu..%llu), %s forms%s, %zu cases\n",
                 seeds, static_cast<unsigned long long>(first_seed),
-                static_cast<unsigned long long>(first_seed + seeds - 1), forms_name.c_str(), out.size());
+                static_cast<unsigned long long>(first_seed + seeds - 1), forms_name.c_str(),
+                noise_free ? ", no sensor noise" : "", out.size());
   text += line;
   text += "Confusion table (rows: hidden, columns: named)\n";
   std::snprintf(line, sizeof line, "%-11s", "hidden");
@@ -287,6 +293,7 @@ int main(int argc, char** argv) {
   j["seeds_per_class"] = seeds;
   j["first_seed"] = first_seed;
   j["forms"] = forms_name;
+  j["noise_free"] = noise_free;
   j["confusion"] = table;
   j["singles_right"] = {singles_right, singles};
   j["pairs_both_named"] = {pairs_both, pairs};
